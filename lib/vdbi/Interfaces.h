@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file vdbi/Interfaces.h
+/// @brief The whole pipeline in one call: the entry point of the CLI, the SOP and the tests.
+
+#ifndef VDBI_INTERFACES_HAS_BEEN_INCLUDED
+#define VDBI_INTERFACES_HAS_BEEN_INCLUDED
+
+#include <vdbi/InterfaceMesh.h>
+#include <vdbi/Types.h>
+
+#include <openvdb/openvdb.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vdbi {
+
+/// Every setting of the pipeline.
+struct Options
+{
+    RepairOptions repair;        ///< priority, constraints, threading, interrupter
+    bool remesh = false;         ///< remeshing is not available yet: the raw extraction
+    double edgeLength = 0.0;     ///< target edge length in world units (0: one voxel)
+    int iterations = 10;         ///< remeshing iterations
+};
+
+/// What a run found and how long its stages took.
+struct Statistics
+{
+    std::size_t labelCount = 0;        ///< distinct labels, the background included
+    std::size_t criticalFaces = 0;
+    std::size_t criticalEdges = 0;
+    std::size_t criticalVertices = 0;
+    std::size_t singularVertices = 0;  ///< critical by the antipodal rule (§2 rule 2)
+    std::size_t subdividedVoxels = 0;
+    std::size_t relabelledSubvoxels = 0;
+    int subdivision = 1;
+    std::size_t patches = 0;
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+    /// Seconds per stage, in the order they ran.
+    std::vector<std::pair<std::string, double>> stageSeconds;
+};
+
+struct Result
+{
+    InterfaceMesh mesh;
+    Statistics statistics;
+};
+
+/// @brief Consistent, manifold interface patches between all labels of @a grid.
+/// @details Finds the critical elements, fattens them on a sparse subdivided grid and extracts
+/// the patches (Bischoff & Kobbelt 2006). Every patch is a 2-manifold; patches share their
+/// boundary vertices; the patches of every label form a closed, oriented surface.
+/// @param grid     labels; the background value is the label of everything not stored
+/// @param options  see Options
+/// @throw openvdb::ValueError for invalid options
+/// @throw vdbi::Interrupted if the interrupter asks to stop
+/// @throw vdbi::TopologyError if a guarantee failed (a bug)
+Result extractInterfaces(const openvdb::Int32Grid& grid, const Options& options = Options());
+
+} // namespace vdbi
+
+#endif // VDBI_INTERFACES_HAS_BEEN_INCLUDED
