@@ -1,3 +1,198 @@
 // SPDX-License-Identifier: Apache-2.0
 
 #include <vdbi/Fattening.h>
+
+#include <vdbi/Interruption.h>
+
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <array>
+
+namespace vdbi {
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::CoordBBox;
+
+/// Closed extent [lo, hi] of an element in coarse grid coordinates.
+struct Extent
+{
+    Coord lo, hi;
+};
+
+Extent extentOf(const CriticalVertex& v) { return {v.point, v.point}; }
+
+Extent
+extentOf(const CriticalEdge& e)
+{
+    Coord hi = e.origin;
+    hi[e.axis] += 1;
+    return {e.origin, hi};
+}
+
+Extent
+extentOf(const CriticalFace& f)
+{
+    Coord hi = f.origin.offsetBy(1);
+    hi[f.axis] = f.origin[f.axis];
+    return {f.origin, hi};
+}
+
+/// N_k of an element in fine voxels: [s*lo - k, s*hi + k) per axis (ALGORITHM.md §3).
+CoordBBox
+neighbourhood(const Extent& e, int s, int k)
+{
+    return CoordBBox(Coord(s * e.lo.x() - k, s * e.lo.y() - k, s * e.lo.z() - k),
+                     Coord(s * e.hi.x() + k - 1, s * e.hi.y() + k - 1, s * e.hi.z() + k - 1));
+}
+
+/// Keeps, per voxel, the label of highest priority written there. The choice is a total
+/// order, so the outcome is the same for any order of writes and any split among threads.
+class PriorityWriter
+{
+public:
+    PriorityWriter(openvdb::Int32Tree& tree, const LabelPriority& priority)
+        : mAcc(tree), mPriority(&priority) {}
+
+    void write(const Coord& f, Label label)
+    {
+        Label old;
+        if (mAcc.probeValue(f, old)) label = mPriority->pick(old, label);
+        mAcc.setValueOn(f, label);
+    }
+
+private:
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> mAcc;
+    const LabelPriority* mPriority;
+};
+
+/// Merges @a from into @a into voxel by voxel; @a from is left empty or partly stolen.
+void
+mergeByPriority(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const LabelPriority& p)
+{
+    PriorityWriter writer(into, p);
+    for (auto it = from.cbeginValueOn(); it; ++it) writer.write(it.getCoord(), *it);
+}
+
+/// Relabels N_k of every element of one kind; returns the labels written (active voxels).
+template<typename Element>
+openvdb::Int32Tree::Ptr
+relabelPass(const std::vector<Element>& elements, int s, int k, const RepairOptions& options,
+            Label background, const char* stage)
+{
+    tbb::enumerable_thread_specific<openvdb::Int32Tree::Ptr> local(
+        [background] { return std::make_shared<openvdb::Int32Tree>(background); });
+    InterruptFlag interrupt(options.interrupter);
+
+    auto relabel = [&](const tbb::blocked_range<std::size_t>& range) {
+        if (interrupt.poll()) return;
+        PriorityWriter writer(*local.local(), options.priority);
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            const CoordBBox box = neighbourhood(extentOf(elements[n]), s, k);
+            for (auto it = box.begin(); it; ++it) writer.write(*it, elements[n].label);
+        }
+    };
+    const tbb::blocked_range<std::size_t> all(0, elements.size(), 64);
+    if (options.threaded) tbb::parallel_for(all, relabel);
+    else relabel(all);
+    interrupt.throwIfStopped(stage);
+
+    auto result = std::make_shared<openvdb::Int32Tree>(background);
+    for (auto& tree : local) mergeByPriority(*result, *tree, options.priority);
+    return result;
+}
+
+/// Later passes overwrite earlier ones.
+void
+overwrite(openvdb::Int32Tree& into, const openvdb::Int32Tree& from)
+{
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(into);
+    for (auto it = from.cbeginValueOn(); it; ++it) acc.setValueOn(it.getCoord(), *it);
+}
+
+/// Marks the coarse voxels whose closed cubes touch an element: [lo - 1, hi] per axis.
+template<typename Element>
+void
+markTouchedVoxels(const std::vector<Element>& elements, openvdb::MaskTree& mask)
+{
+    openvdb::tree::ValueAccessor<openvdb::MaskTree, false> acc(mask);
+    for (const Element& e : elements) {
+        const Extent x = extentOf(e);
+        const CoordBBox box(x.lo.offsetBy(-1), x.hi);
+        for (auto it = box.begin(); it; ++it) acc.setValueOn(*it);
+    }
+}
+
+/// Keeps active only the fine voxels whose label differs from their coarse voxel's.
+void
+dropUnchanged(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, int s, bool threaded)
+{
+    openvdb::tree::LeafManager<openvdb::Int32Tree> leaves(fine);
+    leaves.foreach([&](openvdb::Int32Tree::LeafNodeType& leaf, std::size_t) {
+        openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> acc(coarse);
+        for (auto it = leaf.beginValueOn(); it; ++it) {
+            if (*it == acc.getValue(coarseOf(it.getCoord(), s))) it.setValueOff();
+        }
+    }, threaded);
+    openvdb::tools::pruneInactive(fine, threaded);
+}
+
+} // namespace
+
+int
+subdivisionFactor(const RepairOptions& options)
+{
+    return options.constraints.empty() ? 5 : 7;
+}
+
+RefinedLabels
+fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
+                       const CriticalElements& elements, const RepairOptions& options)
+{
+    const int s = subdivisionFactor(options);
+    const Label background = grid->background();
+    const bool constrained = !options.constraints.empty();
+
+    RefinedLabels result;
+    result.coarse = grid;
+    result.subdivision = s;
+
+    // Edges N1 then vertices N2; with constraints faces N1, edges N2, vertices N3.
+    openvdb::Int32Tree::Ptr fine;
+    if (constrained) {
+        fine = relabelPass(elements.faces, s, 1, options, background, "fattening faces");
+        overwrite(*fine, *relabelPass(elements.edges, s, 2, options, background,
+            "fattening edges"));
+    } else {
+        fine = relabelPass(elements.edges, s, 1, options, background, "fattening edges");
+    }
+    overwrite(*fine, *relabelPass(elements.vertices, s, constrained ? 3 : 2, options,
+        background, "fattening vertices"));
+    dropUnchanged(*fine, grid->tree(), s, options.threaded);
+
+    result.fine = openvdb::Int32Grid::create(fine);
+    result.fine->setName("fine_labels");
+    result.fine->setGridClass(openvdb::GRID_UNKNOWN);
+    // Fine voxel f has its centre at coarse index (f + 0.5) / s - 0.5.
+    openvdb::math::Transform::Ptr xform = grid->transform().copy();
+    xform->preTranslate(openvdb::Vec3d(0.5 / s - 0.5));
+    xform->preScale(1.0 / s);
+    result.fine->setTransform(xform);
+
+    auto mask = std::make_shared<openvdb::MaskTree>(false);
+    markTouchedVoxels(elements.faces, *mask);
+    markTouchedVoxels(elements.edges, *mask);
+    markTouchedVoxels(elements.vertices, *mask);
+    result.subdivided = openvdb::MaskGrid::create(mask);
+    result.subdivided->setName("subdivided");
+    result.subdivided->setTransform(grid->transform().copy());
+    return result;
+}
+
+} // namespace vdbi

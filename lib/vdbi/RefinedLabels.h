@@ -36,7 +36,7 @@ struct RefinedLabels
     openvdb::Int32Grid::ConstPtr coarse; ///< the input labels (tiles voxelized)
     openvdb::Int32Grid::Ptr fine;        ///< active voxels: relabelled subvoxels (fine index space)
     openvdb::MaskGrid::Ptr subdivided;   ///< active voxels: subdivided coarse voxels
-    int subdivision = 1;                 ///< s: 5, or 7 with constraints; 1 when nothing changed
+    int subdivision = 1;                 ///< s: 5, or 7 with constraints
 
     /// Read access for one thread (holds value accessors: never share between threads).
     class Accessor

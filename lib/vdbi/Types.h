@@ -5,11 +5,12 @@
 #ifndef VDBI_TYPES_HAS_BEEN_INCLUDED
 #define VDBI_TYPES_HAS_BEEN_INCLUDED
 
+#include <openvdb/util/NullInterrupter.h>
+
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
 
-namespace openvdb { namespace util { class NullInterrupter; } }
 
 namespace vdbi {
 

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file vdbi/LabelWindow.h
+/// @brief The unit of work of the leaf passes: an 8^3 block of grid points or voxels, with the
+/// labels of the voxels around it copied into a small dense window.
+/// @details Every element (voxel, face, edge, grid point) is owned by one block: the one that
+/// holds its min corner. The blocks to visit are the leaves of the tree and their neighbours in
+/// the positive directions, whose elements touch the background just past a leaf's max faces.
+/// So the passes cost O(leaves), never O(bounding box).
+
+#ifndef VDBI_LABEL_WINDOW_HAS_BEEN_INCLUDED
+#define VDBI_LABEL_WINDOW_HAS_BEEN_INCLUDED
+
+#include <vdbi/Types.h>
+
+#include <openvdb/openvdb.h>
+
+#include <vector>
+
+namespace vdbi {
+
+/// Edge length of a block: the leaf size of Int32Tree.
+constexpr int BLOCK_DIM = 8;
+
+/// @brief Origins of the blocks to visit, sorted: the origins of the leaves of @a tree and of
+/// their neighbours at +8 along any combination of axes.
+/// @param tree  a tree whose tiles hold only the background (see voxelizedLabels())
+std::vector<openvdb::Coord> blockOrigins(const openvdb::Int32Tree& tree, bool threaded);
+
+/// @brief The labels of voxels [origin - 1, origin + BLOCK_DIM] (10^3), read leaf by leaf.
+class LabelWindow
+{
+public:
+    static constexpr int DIM = BLOCK_DIM + 2;
+
+    /// Unregistered read accessor: the trees are not modified while the passes run.
+    using Accessor = openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false>;
+
+    /// Copies the window of the block at @a origin through @a acc (one per thread).
+    void load(Accessor& acc, const openvdb::Coord& origin);
+
+    /// Label of the voxel at offset (x, y, z) from origin - 1, each in [0, DIM).
+    Label at(int x, int y, int z) const { return mLabels[(x * DIM + y) * DIM + z]; }
+    const Label* data() const { return mLabels; }
+    const openvdb::Coord& origin() const { return mOrigin; }
+
+    /// Offsets in the flat array for a step along x, y, z.
+    static constexpr int STRIDE[3] = {DIM * DIM, DIM, 1};
+    /// Flat index of the voxel at offset (x, y, z) from origin - 1.
+    static constexpr int index(int x, int y, int z) { return (x * DIM + y) * DIM + z; }
+
+private:
+    Label mLabels[DIM * DIM * DIM];
+    openvdb::Coord mOrigin;
+};
+
+} // namespace vdbi
+
+#endif // VDBI_LABEL_WINDOW_HAS_BEEN_INCLUDED
