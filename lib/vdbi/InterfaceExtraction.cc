@@ -1,3 +1,453 @@
 // SPDX-License-Identifier: Apache-2.0
 
 #include <vdbi/InterfaceExtraction.h>
+
+#include <vdbi/Interruption.h>
+#include <vdbi/LabelWindow.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <map>
+
+namespace vdbi {
+
+namespace {
+
+using openvdb::Coord;
+using LabelPair = std::array<Label, 2>;
+
+/// Which coarse voxels of a block's window are subdivided.
+class MaskWindow
+{
+public:
+    using Accessor = openvdb::tree::ValueAccessor<const openvdb::MaskTree, false>;
+
+    /// Returns false (and loads nothing) when no subdivided voxel is near the block.
+    bool load(Accessor& acc, const Coord& origin)
+    {
+        using LeafT = openvdb::MaskTree::LeafNodeType;
+        const Coord lo = origin.offsetBy(-1);
+        bool any = false;
+        for (int n = 0; n < 27; ++n) {
+            const Coord leafOrigin = origin.offsetBy((n % 3 - 1) * BLOCK_DIM,
+                ((n / 3) % 3 - 1) * BLOCK_DIM, (n / 9 - 1) * BLOCK_DIM);
+            mLeaves[n] = acc.probeConstLeaf(leafOrigin);
+            mTiles[n] = !mLeaves[n] && acc.isValueOn(leafOrigin);
+            any = any || mLeaves[n] || mTiles[n];
+        }
+        if (!any) return false;
+        for (int x = 0; x < DIM; ++x) for (int y = 0; y < DIM; ++y) for (int z = 0; z < DIM; ++z) {
+            const int n = part(x) + 3 * part(y) + 9 * part(z);
+            const Coord g = lo.offsetBy(x, y, z);
+            mOn[LabelWindow::index(x, y, z)] =
+                mLeaves[n] ? mLeaves[n]->isValueOn(LeafT::coordToOffset(g)) : mTiles[n];
+        }
+        return true;
+    }
+    bool at(int flat) const { return mOn[flat]; }
+
+private:
+    static constexpr int DIM = LabelWindow::DIM;
+    static int part(int w) { return w == 0 ? 0 : (w <= BLOCK_DIM ? 1 : 2); }
+    const openvdb::MaskTree::LeafNodeType* mLeaves[27];
+    bool mTiles[27];
+    bool mOn[DIM * DIM * DIM];
+};
+
+/// Triangles of one block, their corners as keys, before vertices are numbered.
+struct BlockMesh
+{
+    std::vector<VertexKey> keys;        ///< distinct corner keys, sorted
+    std::vector<std::uint32_t> corners; ///< 3 per triangle: indices into keys
+    std::vector<LabelPair> labels;      ///< per triangle
+    std::vector<VertexKey> owned;       ///< keys this block numbers (see ownerOf), sorted
+    std::vector<std::uint32_t> global;  ///< global index of every entry of keys
+};
+
+/// A key with component @a ka along axis @a a and kb, kc along the next two axes (cyclic).
+VertexKey
+keyOf(int a, std::int64_t ka, std::int64_t kb, std::int64_t kc)
+{
+    VertexKey k;
+    k[a] = ka;
+    k[(a + 1) % 3] = kb;
+    k[(a + 2) % 3] = kc;
+    return k;
+}
+
+std::int64_t
+floorDiv64(std::int64_t a, std::int64_t b)
+{
+    const std::int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+/// Emits the faces owned by the voxels of one block (face (v, a) is owned by voxel v).
+class FaceWalker
+{
+public:
+    FaceWalker(const RefinedLabels& labels)
+        : mS(labels.subdivision)
+        , mFine(labels.fine->tree())
+        , mFineLabels(std::size_t(mS) * mS * mS)
+    {}
+
+    void walk(const LabelWindow& w, const MaskWindow* mask, std::vector<VertexKey>& cornerKeys,
+              std::vector<LabelPair>& labels)
+    {
+        mCorners = &cornerKeys;
+        mLabels = &labels;
+        const Coord& o = w.origin();
+        for (int i = 0; i < BLOCK_DIM; ++i) {
+            for (int j = 0; j < BLOCK_DIM; ++j) {
+                for (int k = 0; k < BLOCK_DIM; ++k) {
+                    const Coord v = o.offsetBy(i, j, k);
+                    const int flat = LabelWindow::index(i + 1, j + 1, k + 1);
+                    const Label upper = w.data()[flat];
+                    const bool upperSub = mask && mask->at(flat);
+                    if (upperSub) interiorFaces(v, upper);
+                    for (int a = 0; a < 3; ++a) {
+                        const int lowerFlat = flat - LabelWindow::STRIDE[a];
+                        const Label lower = w.data()[lowerFlat];
+                        const bool lowerSub = mask && mask->at(lowerFlat);
+                        if (upperSub || lowerSub) {
+                            splitFace(v, a, lower, lowerSub, upper, upperSub);
+                        } else if (lower != upper) {
+                            coarseFace(v, a, lower, upper, flat, mask);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+private:
+    /// Appends the triangles of a polygon given counter-clockwise seen from +a: as a fan
+    /// around @a centre, or (no centre, 4 corners) as two triangles.
+    void emitTriangle(const VertexKey& p, const VertexKey& q, const VertexKey& r,
+                      Label lower, Label upper)
+    {
+        // Patch (a, b) with a < b has its normal from a into b; +axis points lower -> upper.
+        if (lower < upper) {
+            mCorners->insert(mCorners->end(), {p, q, r});
+            mLabels->push_back({lower, upper});
+        } else {
+            mCorners->insert(mCorners->end(), {p, r, q});
+            mLabels->push_back({upper, lower});
+        }
+    }
+
+    void emitQuad(const VertexKey (&c)[4], Label lower, Label upper)
+    {
+        emitTriangle(c[0], c[1], c[2], lower, upper);
+        emitTriangle(c[0], c[2], c[3], lower, upper);
+    }
+
+    /// A coarse face between two voxels that are not subdivided.
+    void coarseFace(const Coord& v, int a, Label lower, Label upper, int flat,
+                    const MaskWindow* mask)
+    {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        const std::int64_t K = 2 * mS; // key units per coarse voxel
+        const std::int64_t va = K * v[a], vb = K * v[b], vc = K * v[c];
+
+        // Edge (side) split when a voxel around it is subdivided. Sides in CCW order:
+        // c = 0 along +b, b = 1 along +c, c = 1 along -b, b = 0 along -c.
+        bool split[4] = {false, false, false, false};
+        if (mask) {
+            const int sa = LabelWindow::STRIDE[a], sb = LabelWindow::STRIDE[b],
+                      sc = LabelWindow::STRIDE[c];
+            for (int da = -1; da <= 0; ++da) {
+                const int f = flat + da * sa;
+                split[0] = split[0] || mask->at(f) || mask->at(f - sc);
+                split[1] = split[1] || mask->at(f) || mask->at(f + sb);
+                split[2] = split[2] || mask->at(f) || mask->at(f + sc);
+                split[3] = split[3] || mask->at(f) || mask->at(f - sb);
+            }
+        }
+        const VertexKey corner[4] = {keyOf(a, va, vb, vc), keyOf(a, va, vb + K, vc),
+            keyOf(a, va, vb + K, vc + K), keyOf(a, va, vb, vc + K)};
+        if (!(split[0] || split[1] || split[2] || split[3])) {
+            emitQuad(corner, lower, upper);
+            return;
+        }
+        // The paper's rule: a fan from the face centre to all boundary points.
+        const VertexKey centre = keyOf(a, va, vb + mS, vc + mS);
+        const std::int64_t step[4][2] = {{2, 0}, {0, 2}, {-2, 0}, {0, -2}};
+        for (int side = 0; side < 4; ++side) {
+            const VertexKey& from = corner[side];
+            const int pieces = split[side] ? mS : 1;
+            const std::int64_t db = split[side] ? step[side][0] : step[side][0] * mS;
+            const std::int64_t dc = split[side] ? step[side][1] : step[side][1] * mS;
+            VertexKey p = from;
+            for (int n = 0; n < pieces; ++n) {
+                VertexKey q = p;
+                q[b] += db;
+                q[c] += dc;
+                emitTriangle(centre, p, q, lower, upper);
+                p = q;
+            }
+        }
+    }
+
+    /// Label of fine voxel @a f inside coarse voxel @a u.
+    Label fineLabel(const Coord& f, Label coarse, bool subdivided)
+    {
+        Label l;
+        return (subdivided && mFine.probeValue(f, l)) ? l : coarse;
+    }
+
+    /// A coarse face next to a subdivided voxel: its s x s fine faces, each on its own.
+    void splitFace(const Coord& v, int a, Label lower, bool lowerSub, Label upper,
+                   bool upperSub)
+    {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        const int s = mS;
+        for (int jb = 0; jb < s; ++jb) {
+            for (int jc = 0; jc < s; ++jc) {
+                Coord f;
+                f[a] = s * v[a];
+                f[b] = s * v[b] + jb;
+                f[c] = s * v[c] + jc;
+                Coord g = f;
+                g[a] -= 1;
+                const Label lo = fineLabel(g, lower, lowerSub);
+                const Label hi = fineLabel(f, upper, upperSub);
+                if (lo != hi) fineFace(f, a, lo, hi);
+            }
+        }
+    }
+
+    /// The fine face at the min corner of fine voxel @a f with normal axis @a a.
+    void fineFace(const Coord& f, int a, Label lower, Label upper)
+    {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        const std::int64_t fa = 2 * std::int64_t(f[a]), fb = 2 * std::int64_t(f[b]),
+                           fc = 2 * std::int64_t(f[c]);
+        const VertexKey corner[4] = {keyOf(a, fa, fb, fc), keyOf(a, fa, fb + 2, fc),
+            keyOf(a, fa, fb + 2, fc + 2), keyOf(a, fa, fb, fc + 2)};
+        emitQuad(corner, lower, upper);
+    }
+
+    /// Fine faces inside subdivided voxel @a v, between its own subvoxels.
+    void interiorFaces(const Coord& v, Label coarse)
+    {
+        const int s = mS;
+        const Coord base(s * v.x(), s * v.y(), s * v.z());
+        bool changed = false;
+        for (int x = 0; x < s; ++x) for (int y = 0; y < s; ++y) for (int z = 0; z < s; ++z) {
+            Label& l = mFineLabels[(x * s + y) * s + z];
+            l = fineLabel(base.offsetBy(x, y, z), coarse, true);
+            changed = changed || l != coarse;
+        }
+        if (!changed) return;
+        const int stride[3] = {s * s, s, 1};
+        for (int x = 0; x < s; ++x) for (int y = 0; y < s; ++y) for (int z = 0; z < s; ++z) {
+            const int idx = (x * s + y) * s + z;
+            const int pos[3] = {x, y, z};
+            for (int a = 0; a < 3; ++a) {
+                if (pos[a] == 0) continue; // the voxel's own lower faces: splitFace()
+                const Label lo = mFineLabels[idx - stride[a]], hi = mFineLabels[idx];
+                if (lo != hi) fineFace(base.offsetBy(x, y, z), a, lo, hi);
+            }
+        }
+    }
+
+    const int mS;
+    openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> mFine;
+    std::vector<Label> mFineLabels;
+    std::vector<VertexKey>* mCorners = nullptr;
+    std::vector<LabelPair>* mLabels = nullptr;
+};
+
+/// Replaces the corner keys by indices into the block's sorted distinct keys.
+void
+indexCorners(const std::vector<VertexKey>& cornerKeys, BlockMesh& block)
+{
+    block.keys = cornerKeys;
+    std::sort(block.keys.begin(), block.keys.end());
+    block.keys.erase(std::unique(block.keys.begin(), block.keys.end()), block.keys.end());
+    block.corners.resize(cornerKeys.size());
+    for (std::size_t n = 0; n < cornerKeys.size(); ++n) {
+        block.corners[n] = std::uint32_t(std::lower_bound(block.keys.begin(), block.keys.end(),
+            cornerKeys[n]) - block.keys.begin());
+    }
+}
+
+/// Leaf origins of both trees; blocks are these leaves and their + neighbours.
+std::vector<Coord>
+extractionBlocks(const RefinedLabels& labels, bool threaded)
+{
+    std::vector<Coord> origins = blockOrigins(labels.coarse->tree(), threaded);
+    std::vector<const openvdb::MaskTree::LeafNodeType*> maskLeaves;
+    labels.subdivided->tree().getNodes(maskLeaves);
+    for (const auto* leaf : maskLeaves) {
+        for (int n = 0; n < 8; ++n) {
+            origins.push_back(leaf->origin().offsetBy((n & 1) ? BLOCK_DIM : 0,
+                (n & 2) ? BLOCK_DIM : 0, (n & 4) ? BLOCK_DIM : 0));
+        }
+    }
+    std::sort(origins.begin(), origins.end());
+    origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
+    return origins;
+}
+
+template<typename Body>
+void
+forEachIndex(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body& body,
+             std::size_t grain = 8)
+{
+    auto run = [&](const tbb::blocked_range<std::size_t>& r) {
+        if (interrupt.poll()) return;
+        for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+    };
+    const tbb::blocked_range<std::size_t> all(0, n, grain);
+    if (threaded) tbb::parallel_for(all, run);
+    else run(all);
+}
+
+} // namespace
+
+InterfaceMesh
+extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& options)
+{
+    checkInterrupt(options.interrupter, "extraction");
+    const int s = labels.subdivision;
+    const std::int64_t K = 2 * s;
+    const std::vector<Coord> origins = extractionBlocks(labels, options.threaded);
+    std::vector<BlockMesh> blocks(origins.size());
+    InterruptFlag interrupt(options.interrupter);
+
+    // 1. Triangles per block, with block-local vertex indices.
+    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
+        thread_local std::vector<VertexKey> cornerKeys;
+        LabelWindow::Accessor acc(labels.coarse->tree());
+        MaskWindow::Accessor maskAcc(labels.subdivided->tree());
+        LabelWindow window;
+        MaskWindow mask;
+        window.load(acc, origins[n]);
+        const bool hasMask = mask.load(maskAcc, origins[n]);
+        FaceWalker walker(labels);
+        cornerKeys.clear();
+        walker.walk(window, hasMask ? &mask : nullptr, cornerKeys, blocks[n].labels);
+        indexCorners(cornerKeys, blocks[n]);
+    });
+    interrupt.throwIfStopped("extraction");
+
+    // 2. Every key is numbered by one block: the one holding the coarse cell it lies in.
+    //    Keys of block X lie in [X, X + 8] coarse units, so their owners are X + {0, 8}^3.
+    auto ownerOf = [&](const VertexKey& k) {
+        return Coord(int(floorDiv64(floorDiv64(k[0], K), BLOCK_DIM) * BLOCK_DIM),
+                     int(floorDiv64(floorDiv64(k[1], K), BLOCK_DIM) * BLOCK_DIM),
+                     int(floorDiv64(floorDiv64(k[2], K), BLOCK_DIM) * BLOCK_DIM));
+    };
+    auto blockIndex = [&](const Coord& origin) -> std::ptrdiff_t {
+        const auto it = std::lower_bound(origins.begin(), origins.end(), origin);
+        return (it != origins.end() && *it == origin) ? it - origins.begin() : -1;
+    };
+    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
+        BlockMesh& block = blocks[n];
+        for (int m = 0; m < 8; ++m) {
+            const std::ptrdiff_t x = blockIndex(origins[n].offsetBy((m & 1) ? -BLOCK_DIM : 0,
+                (m & 2) ? -BLOCK_DIM : 0, (m & 4) ? -BLOCK_DIM : 0));
+            if (x < 0) continue;
+            for (const VertexKey& k : blocks[x].keys) {
+                if (ownerOf(k) == origins[n]) block.owned.push_back(k);
+            }
+        }
+        std::sort(block.owned.begin(), block.owned.end());
+        block.owned.erase(std::unique(block.owned.begin(), block.owned.end()),
+            block.owned.end());
+    });
+    interrupt.throwIfStopped("extraction");
+
+    std::vector<std::size_t> vertexOffset(origins.size() + 1, 0);
+    for (std::size_t n = 0; n < origins.size(); ++n) {
+        vertexOffset[n + 1] = vertexOffset[n] + blocks[n].owned.size();
+    }
+
+    // 3. Global indices of every block's keys, through their owners.
+    bool lostKey = false;
+    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
+        BlockMesh& block = blocks[n];
+        block.global.resize(block.keys.size());
+        for (std::size_t i = 0; i < block.keys.size(); ++i) {
+            const VertexKey& k = block.keys[i];
+            const std::ptrdiff_t owner = blockIndex(ownerOf(k));
+            if (owner < 0) { lostKey = true; continue; }
+            const auto& owned = blocks[owner].owned;
+            const auto it = std::lower_bound(owned.begin(), owned.end(), k);
+            block.global[i] = std::uint32_t(vertexOffset[owner] + (it - owned.begin()));
+        }
+    });
+    interrupt.throwIfStopped("extraction");
+    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
+
+    // 4. Patches in (a, b) order; inside a patch, block order then emission order.
+    std::map<LabelPair, std::size_t> patchIndex;
+    for (const BlockMesh& block : blocks) {
+        for (const LabelPair& p : block.labels) patchIndex.emplace(p, 0);
+    }
+    InterfaceMesh mesh;
+    mesh.keyScale = int(K);
+    for (auto& entry : patchIndex) {
+        entry.second = mesh.patches.size();
+        InterfacePatch patch;
+        patch.a = entry.first[0];
+        patch.b = entry.first[1];
+        mesh.patches.push_back(patch);
+    }
+    const std::size_t patchCount = mesh.patches.size();
+    // offsets[n * patchCount + p]: where block n's triangles of patch p start.
+    std::vector<std::size_t> offsets(origins.size() * patchCount, 0);
+    for (std::size_t n = 0; n < origins.size(); ++n) {
+        for (const LabelPair& p : blocks[n].labels) {
+            ++offsets[n * patchCount + patchIndex[p]];
+        }
+    }
+    std::size_t total = 0;
+    for (std::size_t p = 0; p < patchCount; ++p) {
+        mesh.patches[p].firstTriangle = total;
+        for (std::size_t n = 0; n < origins.size(); ++n) {
+            const std::size_t count = offsets[n * patchCount + p];
+            offsets[n * patchCount + p] = total;
+            total += count;
+        }
+        mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
+    }
+
+    mesh.triangles.resize(total);
+    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
+        const BlockMesh& block = blocks[n];
+        std::vector<std::size_t> next(offsets.begin() + n * patchCount,
+                                      offsets.begin() + (n + 1) * patchCount);
+        for (std::size_t t = 0; t < block.labels.size(); ++t) {
+            const std::size_t at = next[patchIndex.at(block.labels[t])]++;
+            mesh.triangles[at] = openvdb::Vec3I(block.global[block.corners[3 * t]],
+                block.global[block.corners[3 * t + 1]], block.global[block.corners[3 * t + 2]]);
+        }
+    });
+    interrupt.throwIfStopped("extraction");
+
+    // 5. Points: a key k is at coarse index k / 2s; voxel centres sit at integer indices in
+    //    OpenVDB, so the cube of voxel c spans [c - 0.5, c + 0.5] there.
+    mesh.points.resize(vertexOffset.back());
+    mesh.pointKeys.resize(vertexOffset.back());
+    const openvdb::math::Transform& xform = labels.coarse->transform();
+    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
+        const BlockMesh& block = blocks[n];
+        for (std::size_t i = 0; i < block.owned.size(); ++i) {
+            const VertexKey& k = block.owned[i];
+            const openvdb::Vec3d index(double(k[0]) / double(K) - 0.5,
+                double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5);
+            mesh.points[vertexOffset[n] + i] = xform.indexToWorld(index);
+            mesh.pointKeys[vertexOffset[n] + i] = k;
+        }
+    });
+    interrupt.throwIfStopped("extraction");
+    return mesh;
+}
+
+} // namespace vdbi

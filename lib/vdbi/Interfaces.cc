@@ -1,3 +1,91 @@
 // SPDX-License-Identifier: Apache-2.0
 
 #include <vdbi/Interfaces.h>
+
+#include <vdbi/CriticalElements.h>
+#include <vdbi/Fattening.h>
+#include <vdbi/InterfaceExtraction.h>
+#include <vdbi/LabelGrid.h>
+
+#include <openvdb/Exceptions.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace vdbi {
+
+namespace {
+
+/// Times the stages of one run into Statistics::stageSeconds.
+class StageClock
+{
+public:
+    explicit StageClock(Statistics& stats): mStats(stats), mStart(Clock::now()) {}
+    void lap(const char* stage)
+    {
+        const Clock::time_point now = Clock::now();
+        mStats.stageSeconds.emplace_back(stage,
+            std::chrono::duration<double>(now - mStart).count());
+        mStart = now;
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    Statistics& mStats;
+    Clock::time_point mStart;
+};
+
+void
+validate(const Options& options)
+{
+    if (!std::isfinite(options.edgeLength) || options.edgeLength < 0.0) {
+        OPENVDB_THROW(openvdb::ValueError, "edge length must be a finite number > 0 (0 for "
+            "one voxel), not " << options.edgeLength);
+    }
+    if (options.iterations < 0) {
+        OPENVDB_THROW(openvdb::ValueError, "iterations must be >= 0, not "
+            << options.iterations);
+    }
+    validateConstraints(options.repair.constraints);
+}
+
+} // namespace
+
+Result
+extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
+{
+    validate(options);
+    Result result;
+    Statistics& stats = result.statistics;
+    StageClock clock(stats);
+
+    const openvdb::Int32Grid::ConstPtr labels = voxelizedLabels(grid);
+    stats.labelCount = collectLabels(*labels, options.repair.threaded).size();
+    clock.lap("prepare");
+
+    const CriticalElements elements = findCriticalElements(*labels, options.repair);
+    stats.criticalFaces = elements.faces.size();
+    stats.criticalEdges = elements.edges.size();
+    stats.criticalVertices = elements.vertices.size();
+    stats.singularVertices = elements.singularVertexCount();
+    clock.lap("critical elements");
+
+    const RefinedLabels refined = fattenCriticalElements(labels, elements, options.repair);
+    stats.subdividedVoxels = refined.subdivided->activeVoxelCount();
+    stats.relabelledSubvoxels = refined.fine->activeVoxelCount();
+    stats.subdivision = refined.subdivision;
+    clock.lap("fattening");
+
+    ExtractionOptions extraction;
+    extraction.threaded = options.repair.threaded;
+    extraction.interrupter = options.repair.interrupter;
+    result.mesh = extractInterfacePatches(refined, extraction);
+    clock.lap("extraction");
+
+    stats.patches = result.mesh.patches.size();
+    stats.triangles = result.mesh.triangles.size();
+    stats.vertices = result.mesh.points.size();
+    return result;
+}
+
+} // namespace vdbi

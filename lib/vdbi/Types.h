@@ -55,6 +55,12 @@ struct SeparationConstraint
     Label a = 0, b = 0, separator = 0;
 };
 
+/// @brief Checks a constraint set before any work: a != b, the separator differs from both,
+/// and no separator of one constraint is an a or b of any constraint (such sets can contradict
+/// each other, e.g. (A,B->C) with (A,C->B); ALGORITHM.md §6).
+/// @throw openvdb::ValueError naming the offending constraint(s)
+void validateConstraints(const std::vector<SeparationConstraint>& constraints);
+
 /// @brief Settings of the repair stages (critical elements and fattening).
 struct RepairOptions
 {
