@@ -1,0 +1,400 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file TestCli.cc
+/// @brief Runs the built vdb_interfaces binary: exit status, what stderr says, and that a
+/// failed run leaves no file behind.
+
+#include "support/TestData.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifdef VDBI_CLI_PATH
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliResult
+{
+    int status = -1;
+    std::string out, err;
+};
+
+std::string
+shellQuote(const std::string& arg)
+{
+    std::string quoted = "'";
+    for (const char c : arg) {
+        if (c == '\'') quoted += "'\\''";
+        else quoted += c;
+    }
+    return quoted + "'";
+}
+
+std::string
+readAll(const fs::path& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+bool
+contains(const std::string& text, const std::string& part)
+{
+    return text.find(part) != std::string::npos;
+}
+
+std::vector<std::string>
+listFolder(const fs::path& dir)
+{
+    std::vector<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+        names.push_back(fs::relative(entry.path(), dir).string());
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+} // namespace
+
+class TestCli : public ::testing::Test
+{
+protected:
+    void SetUp() override
+    {
+        std::random_device rd;
+        const fs::path root = fs::temp_directory_path()
+            / ("vdbi_cli_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
+        mWork = root / "work";
+        mCapture = root / "capture";
+        fs::create_directories(mWork);
+        fs::create_directories(mCapture);
+        mRoot = root;
+        mKnight = vdbi_test::dataPath("chr_knight.vox");
+    }
+    void TearDown() override
+    {
+        std::error_code ec;
+        fs::remove_all(mRoot, ec);
+    }
+
+    /// Runs the CLI in the work folder with stdin closed.
+    CliResult run(const std::vector<std::string>& args) const
+    {
+        std::string command = "cd " + shellQuote(mWork.string()) + " && "
+            + shellQuote(VDBI_CLI_PATH);
+        for (const std::string& arg : args) command += " " + shellQuote(arg);
+        command += " </dev/null >" + shellQuote((mCapture / "out").string())
+            + " 2>" + shellQuote((mCapture / "err").string());
+        CliResult result;
+        const int raw = std::system(command.c_str());
+        result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+        result.out = readAll(mCapture / "out");
+        result.err = readAll(mCapture / "err");
+        return result;
+    }
+
+    std::string work(const std::string& name) const { return (mWork / name).string(); }
+
+    /// A usage error: status 2, the message names @a what, then the usage line.
+    void expectUsageError(const std::vector<std::string>& args, const std::vector<std::string>& what)
+    {
+        const CliResult r = run(args);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_EQ(r.err.rfind("vdb_interfaces: ", 0), 0u) << r.err;
+        for (const std::string& w : what) EXPECT_TRUE(contains(r.err, w)) << w << " in " << r.err;
+        EXPECT_TRUE(contains(r.err, "Usage: vdb_interfaces")) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+        EXPECT_EQ(listFolder(mWork), mBefore) << "a failed run left files";
+    }
+
+    /// A runtime error: status 1 and one line "vdb_interfaces: FILE: problem".
+    void expectRuntimeError(const std::vector<std::string>& args, const std::string& file,
+                            const std::string& problem)
+    {
+        const CliResult r = run(args);
+        EXPECT_EQ(r.status, 1) << r.err;
+        EXPECT_EQ(r.err.rfind("vdb_interfaces: " + file + ": ", 0), 0u) << r.err;
+        EXPECT_TRUE(contains(r.err, problem)) << problem << " in " << r.err;
+        EXPECT_FALSE(contains(r.err, "Error: ")) << "OpenVDB's type prefix left: " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_EQ(listFolder(mWork), mBefore) << "a failed run left files";
+    }
+
+    void snapshot() { mBefore = listFolder(mWork); }
+
+    fs::path mRoot, mWork, mCapture;
+    std::string mKnight;
+    std::vector<std::string> mBefore;
+};
+
+TEST_F(TestCli, testHelp)
+{
+    for (const std::string flag : {"--help", "-h"}) {
+        const CliResult r = run({flag});
+        EXPECT_EQ(r.status, 0);
+        EXPECT_TRUE(r.err.empty()) << r.err;
+        const std::vector<std::string> expected = {"-o,--output", "--per-label ",
+            "--per-label-format", "--grid", "--threads", "--priority", "--separate",
+            "--edge-length", "--iterations", "--no-remesh", "--stats", "--report",
+            "-h,--help", "--version", ".vdb", ".vox", ".mhd", ".mha", ".ply", ".obj", ".vtp",
+            "Int64", "stl", "BoundaryLabels", "patch_A_B", "not implemented", "Exit status"};
+        for (const std::string& e : expected) EXPECT_TRUE(contains(r.out, e)) << e;
+    }
+}
+
+TEST_F(TestCli, testVersion)
+{
+    const CliResult r = run({"--version"});
+    EXPECT_EQ(r.status, 0);
+    EXPECT_EQ(r.out.rfind("vdb_interfaces ", 0), 0u) << r.out;
+    ASSERT_GT(r.out.size(), 16u);
+    EXPECT_TRUE(std::isdigit(static_cast<unsigned char>(r.out[15]))) << r.out;
+    EXPECT_EQ(r.out.back(), '\n');
+    EXPECT_TRUE(r.err.empty());
+}
+
+TEST_F(TestCli, testUnknownOption)
+{
+    snapshot();
+    expectUsageError({"--bogus", mKnight, "-o", "out.ply"}, {"--bogus"});
+    expectUsageError({"-x", mKnight, "-o", "out.ply"}, {"-x"});
+}
+
+TEST_F(TestCli, testMissingValue)
+{
+    snapshot();
+    expectUsageError({mKnight, "-o"}, {"--output", "missing"});
+    expectUsageError({mKnight, "-o", "out.ply", "--threads"}, {"--threads"});
+    expectUsageError({"-o", "out.ply"}, {"INPUT", "required"});
+}
+
+TEST_F(TestCli, testNothingToDo)
+{
+    snapshot();
+    expectUsageError({mKnight}, {"-o/--output", "--per-label", "--stats", "--report"});
+}
+
+TEST_F(TestCli, testEdgeLength)
+{
+    snapshot();
+    expectUsageError({mKnight, "-o", "out.ply", "--edge-length", "abc"},
+        {"--edge-length", "'abc'", "number"});
+    expectUsageError({mKnight, "-o", "out.ply", "--edge-length", "1.5mm"},
+        {"--edge-length", "1.5mm"});
+    expectUsageError({mKnight, "-o", "out.ply", "--edge-length", "nan"}, {"--edge-length"});
+    expectUsageError({mKnight, "-o", "out.ply", "--edge-length", "0"},
+        {"--edge-length", "greater than 0"});
+    expectUsageError({mKnight, "-o", "out.ply", "--edge-length=-0.5"},
+        {"--edge-length", "greater than 0"});
+}
+
+TEST_F(TestCli, testIntegerOptions)
+{
+    snapshot();
+    expectUsageError({mKnight, "-o", "out.ply", "--threads", "0"},
+        {"--threads", "at least 1", "0"});
+    expectUsageError({mKnight, "-o", "out.ply", "--threads", "two"}, {"--threads", "two"});
+    expectUsageError({mKnight, "-o", "out.ply", "--iterations", "-1"},
+        {"--iterations", "at least 0"});
+    expectUsageError({mKnight, "-o", "out.ply", "--priority", "3,x"}, {"--priority", "'x'"});
+    expectUsageError({mKnight, "-o", "out.ply", "--priority", "3,4,3"},
+        {"--priority", "3", "twice"});
+}
+
+TEST_F(TestCli, testConstraints)
+{
+    snapshot();
+    for (const std::string bad : {"1,2", "1:2,3", "1;2:3", "a,b:c", "1,2:", ",2:3", "1,2:3:4"}) {
+        expectUsageError({mKnight, "-o", "out.ply", "--separate", bad},
+            {"--separate", "'" + bad + "'", "A,B:C"});
+    }
+    expectUsageError({mKnight, "-o", "out.ply", "--separate", "4,4:2"},
+        {"--separate", "4,4:2", "must differ"});
+    expectUsageError({mKnight, "-o", "out.ply", "--separate", "4,2:2"},
+        {"--separate", "4,2:2", "separator"});
+    // Two constraints, the second one bad.
+    expectUsageError({mKnight, "--separate", "1,2:3", "-o", "out.ply", "--separate", "5,5:1"},
+        {"--separate", "5,5:1"});
+}
+
+TEST_F(TestCli, testFormats)
+{
+    snapshot();
+    expectUsageError({mKnight, "-o", "out.stl"}, {"out.stl", "unknown output format", ".ply"});
+    expectUsageError({mKnight, "-o", "out"}, {"unknown output format"});
+    expectUsageError({mKnight, "--per-label", "dir", "--per-label-format", "obj"},
+        {"--per-label-format", "obj"});
+    expectUsageError({mKnight, "-o", "out.ply", "--per-label-format", "ply"},
+        {"--per-label-format", "--per-label"});
+    expectUsageError({mKnight, "-o", "out.ply", "--grid", "labels"}, {"--grid", ".vdb"});
+
+    std::ofstream(work("labels.txt")) << "1 2 3\n";
+    snapshot();
+    expectUsageError({work("labels.txt"), "-o", "out.ply"},
+        {work("labels.txt"), "unknown input format", ".txt"});
+}
+
+TEST_F(TestCli, testOutputFolderMissing)
+{
+    snapshot();
+    expectRuntimeError({mKnight, "-o", "missing/out.ply"}, "missing/out.ply", "does not exist");
+    expectRuntimeError({mKnight, "--report", "missing/report.json"}, "missing/report.json",
+        "does not exist");
+    EXPECT_FALSE(fs::exists(work("missing")));
+}
+
+TEST_F(TestCli, testOutputIsInput)
+{
+    const std::string input = work("labels.vox");
+    fs::copy_file(mKnight, input);
+    fs::create_symlink(input, work("alias.ply"));
+    snapshot();
+    const auto size = fs::file_size(input);
+    // Extensions keep -o from naming the input directly; a link or --report still can.
+    expectRuntimeError({input, "-o", "alias.ply"}, "alias.ply", "is the input file");
+    expectRuntimeError({input, "--report", input}, input, "is the input file");
+    expectRuntimeError({input, "--report", "labels.vox"}, "labels.vox", "is the input file");
+    EXPECT_EQ(fs::file_size(input), size);
+    EXPECT_EQ(readAll(input), readAll(mKnight));
+}
+
+TEST_F(TestCli, testOutputIsFolder)
+{
+    fs::create_directory(work("out.ply"));
+    snapshot();
+    expectRuntimeError({mKnight, "-o", "out.ply"}, "out.ply", "is a folder");
+}
+
+TEST_F(TestCli, testMissingInput)
+{
+    snapshot();
+    expectRuntimeError({work("absent.vox"), "-o", "out.ply"}, work("absent.vox"),
+        "No such file or directory");
+}
+
+TEST_F(TestCli, testEmptyInput)
+{
+    std::ofstream(work("empty.vox")).close();
+    snapshot();
+    expectRuntimeError({work("empty.vox"), "-o", "out.ply", "--report", "r.json"},
+        work("empty.vox"), "empty file");
+}
+
+TEST_F(TestCli, testCorruptInput)
+{
+    // A reader's IoError reaches the user as "FILE: problem", without "IoError: ".
+    std::ofstream(work("garbage.vox")) << "this is not a MagicaVoxel file at all";
+    snapshot();
+    expectRuntimeError({work("garbage.vox"), "-o", "out.ply", "--report", "r.json"},
+        work("garbage.vox"), "");
+}
+
+TEST_F(TestCli, testWritesEveryFormat)
+{
+    const CliResult r = run({mKnight, "-o", "knight.ply", "--report", "report.json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << "stderr is not a terminal, so no progress: " << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_EQ(readAll(work("knight.ply")).rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
+
+    const std::string report = readAll(work("report.json"));
+    for (const std::string key : {"\"program\"", "\"version\"", "\"input\"", "\"labels\"",
+             "\"critical_faces\"", "\"critical_edges\"", "\"critical_vertices\"",
+             "\"singular_vertices\"", "\"subdivision\"", "\"subdivided_voxels\"",
+             "\"relabelled_subvoxels\"", "\"patches\"", "\"triangles\"", "\"vertices\"",
+             "\"stages\"", "\"total_seconds\"", "\"peak_memory_bytes\""})
+    {
+        EXPECT_TRUE(contains(report, key)) << key << " in " << report;
+    }
+    EXPECT_EQ(report.front(), '{');
+    EXPECT_EQ(report.substr(report.size() - 2), "}\n");
+
+    ASSERT_EQ(run({mKnight, "-o", "knight.obj"}).status, 0);
+    EXPECT_TRUE(contains(readAll(work("knight.obj")), "\ng patch_"));
+    ASSERT_EQ(run({mKnight, "-o", "knight.vtp"}).status, 0);
+    EXPECT_TRUE(contains(readAll(work("knight.vtp")), "Name=\"BoundaryLabels\""));
+
+    EXPECT_EQ(listFolder(mWork), (std::vector<std::string>{"knight.obj", "knight.ply",
+        "knight.vtp", "report.json"}));
+}
+
+TEST_F(TestCli, testStats)
+{
+    const CliResult r = run({mKnight, "--stats"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const std::string line : {"labels", "critical faces", "critical edges",
+             "critical vertices", "singular vertices", "subdivided voxels",
+             "relabelled subvoxels", "patches", "triangles", "vertices", "seconds", "read",
+             "total", "peak memory"})
+    {
+        EXPECT_TRUE(contains(r.out, line)) << line << " in " << r.out;
+    }
+    EXPECT_TRUE(listFolder(mWork).empty());
+}
+
+TEST_F(TestCli, testPerLabel)
+{
+    // The folder and its parent are created.
+    const CliResult r = run({mKnight, "--per-label", "surfaces/knight", "--report", "r.json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(work("surfaces/knight"))) {
+        const std::string name = entry.path().filename().string();
+        EXPECT_EQ(name.rfind("label_", 0), 0u) << name;
+        EXPECT_EQ(entry.path().extension(), ".stl") << name;
+        EXPECT_NE(name, "label_0.stl") << "the background is skipped";
+        // Binary STL: 84 bytes of header and count, then 50 per triangle.
+        const auto size = entry.file_size();
+        EXPECT_TRUE(size > 84 && (size - 84) % 50 == 0) << name << " " << size;
+        ++files;
+    }
+    EXPECT_GT(files, 1u);
+
+    ASSERT_EQ(run({mKnight, "--per-label", "ply", "--per-label-format", "PLY"}).status, 0);
+    for (const auto& entry : fs::directory_iterator(work("ply"))) {
+        EXPECT_EQ(entry.path().extension(), ".ply");
+    }
+}
+
+TEST_F(TestCli, testPerLabelFolderIsFile)
+{
+    std::ofstream(work("taken")) << "x";
+    snapshot();
+    expectRuntimeError({mKnight, "--per-label", "taken"}, "taken", "not a folder");
+}
+
+TEST_F(TestCli, testThreadsGiveIdenticalFiles)
+{
+    for (const std::string ext : {".ply", ".obj", ".vtp"}) {
+        ASSERT_EQ(run({mKnight, "--threads", "1", "-o", "one" + ext}).status, 0);
+        ASSERT_EQ(run({mKnight, "--threads", "2", "-o", "two" + ext}).status, 0);
+        const std::string one = readAll(work("one" + ext)), two = readAll(work("two" + ext));
+        EXPECT_FALSE(one.empty());
+        EXPECT_TRUE(one == two) << ext << " differs between 1 and 2 threads";
+    }
+}
+
+TEST_F(TestCli, testOptionsAccepted)
+{
+    // Every option with a valid value (remeshing is accepted but not done yet).
+    const CliResult r = run({"--priority", "1,2", mKnight, "--separate", "1,2:3", "--separate",
+        "4,5:6", "--edge-length", "0.5", "--iterations", "3", "--no-remesh", "--threads", "2",
+        "-o", "out.ply"});
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(work("out.ply")));
+}
+
+#endif // VDBI_CLI_PATH
