@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <map>
+#include <memory>
 
 namespace vdbi {
 
@@ -56,14 +57,63 @@ private:
     bool mOn[DIM * DIM * DIM];
 };
 
-/// Triangles of one block, their corners as keys, before vertices are numbered.
+/// Triangles of one block, before vertices are numbered globally.
 struct BlockMesh
 {
-    std::vector<VertexKey> keys;        ///< distinct corner keys, sorted
-    std::vector<std::uint32_t> corners; ///< 3 per triangle: indices into keys
-    std::vector<LabelPair> labels;      ///< per triangle
-    std::vector<VertexKey> owned;       ///< keys this block numbers (see ownerOf), sorted
-    std::vector<std::uint32_t> global;  ///< global index of every entry of keys
+    std::vector<VertexKey> keys;            ///< distinct corner keys, in order of first use
+    std::vector<std::uint32_t> corners;     ///< 3 per triangle: indices into keys
+    std::vector<LabelPair> patches;         ///< distinct label pairs, in order of first use
+    std::vector<std::uint32_t> patchOf;     ///< per triangle: index into patches
+    std::vector<VertexKey> owned;           ///< keys this block numbers (see ownerOf), sorted
+    std::vector<std::uint32_t> global;      ///< global index of every entry of keys
+};
+
+/// Open-addressing map from the keys of one block to their indices in BlockMesh::keys.
+class KeyIndex
+{
+public:
+    void reset(std::vector<VertexKey>& keys)
+    {
+        mKeys = &keys;
+        if (mSlots.empty()) mSlots.assign(1 << 12, 0);
+        else std::fill(mSlots.begin(), mSlots.end(), 0u);
+    }
+
+    std::uint32_t insert(const VertexKey& k)
+    {
+        if (2 * (mKeys->size() + 1) > mSlots.size()) grow();
+        std::size_t h = slotOf(k);
+        while (mSlots[h] != 0) {
+            if ((*mKeys)[mSlots[h] - 1] == k) return mSlots[h] - 1;
+            h = (h + 1) & (mSlots.size() - 1);
+        }
+        mKeys->push_back(k);
+        mSlots[h] = std::uint32_t(mKeys->size());
+        return mSlots[h] - 1;
+    }
+
+private:
+    std::size_t slotOf(const VertexKey& k) const
+    {
+        std::uint64_t h = std::uint64_t(k[0]) * 0x9E3779B97F4A7C15ull;
+        h ^= std::uint64_t(k[1]) * 0xC2B2AE3D27D4EB4Full + (h >> 29);
+        h ^= std::uint64_t(k[2]) * 0x165667B19E3779F9ull + (h >> 32);
+        h ^= h >> 31;
+        return std::size_t(h) & (mSlots.size() - 1);
+    }
+
+    void grow()
+    {
+        mSlots.assign(mSlots.size() * 2, 0);
+        for (std::size_t i = 0; i < mKeys->size(); ++i) {
+            std::size_t h = slotOf((*mKeys)[i]);
+            while (mSlots[h] != 0) h = (h + 1) & (mSlots.size() - 1);
+            mSlots[h] = std::uint32_t(i + 1);
+        }
+    }
+
+    std::vector<std::uint32_t> mSlots; ///< index + 1 into *mKeys, 0 = empty
+    std::vector<VertexKey>* mKeys = nullptr;
 };
 
 /// A key with component @a ka along axis @a a and kb, kc along the next two axes (cyclic).
@@ -92,13 +142,14 @@ public:
         : mS(labels.subdivision)
         , mFine(labels.fine->tree())
         , mFineLabels(std::size_t(mS) * mS * mS)
+        , mFacePairs(std::size_t(mS) * mS)
+        , mUsed(std::size_t(mS) * mS)
     {}
 
-    void walk(const LabelWindow& w, const MaskWindow* mask, std::vector<VertexKey>& cornerKeys,
-              std::vector<LabelPair>& labels)
+    void walk(const LabelWindow& w, const MaskWindow* mask, BlockMesh& out)
     {
-        mCorners = &cornerKeys;
-        mLabels = &labels;
+        mOut = &out;
+        mIndex.reset(out.keys);
         const Coord& o = w.origin();
         for (int i = 0; i < BLOCK_DIM; ++i) {
             for (int j = 0; j < BLOCK_DIM; ++j) {
@@ -130,13 +181,17 @@ private:
                       Label lower, Label upper)
     {
         // Patch (a, b) with a < b has its normal from a into b; +axis points lower -> upper.
-        if (lower < upper) {
-            mCorners->insert(mCorners->end(), {p, q, r});
-            mLabels->push_back({lower, upper});
-        } else {
-            mCorners->insert(mCorners->end(), {p, r, q});
-            mLabels->push_back({upper, lower});
+        const bool up = lower < upper;
+        const LabelPair pair = up ? LabelPair{lower, upper} : LabelPair{upper, lower};
+        if (mOut->patches.empty() || mOut->patches[mLastPatch] != pair) {
+            const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
+            mLastPatch = std::size_t(it - mOut->patches.begin());
+            if (it == mOut->patches.end()) mOut->patches.push_back(pair);
         }
+        mOut->patchOf.push_back(std::uint32_t(mLastPatch));
+        mOut->corners.push_back(mIndex.insert(p));
+        mOut->corners.push_back(mIndex.insert(up ? q : r));
+        mOut->corners.push_back(mIndex.insert(up ? r : q));
     }
 
     void emitQuad(const VertexKey (&c)[4], Label lower, Label upper)
@@ -150,10 +205,7 @@ private:
                     const MaskWindow* mask)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
-        const std::int64_t K = 2 * mS; // key units per coarse voxel
-        const std::int64_t va = K * v[a], vb = K * v[b], vc = K * v[c];
-
-        // Edge (side) split when a voxel around it is subdivided. Sides in CCW order:
+        // A side (edge) is split when a voxel around it is subdivided. Sides in CCW order:
         // c = 0 along +b, b = 1 along +c, c = 1 along -b, b = 0 along -c.
         bool split[4] = {false, false, false, false};
         if (mask) {
@@ -167,25 +219,36 @@ private:
                 split[3] = split[3] || mask->at(f) || mask->at(f - sb);
             }
         }
-        const VertexKey corner[4] = {keyOf(a, va, vb, vc), keyOf(a, va, vb + K, vc),
-            keyOf(a, va, vb + K, vc + K), keyOf(a, va, vb, vc + K)};
-        if (!(split[0] || split[1] || split[2] || split[3])) {
-            emitQuad(corner, lower, upper);
+        if (split[0] || split[1] || split[2] || split[3]) {
+            fan(v, a, split, lower, upper);
             return;
         }
-        // The paper's rule: a fan from the face centre to all boundary points.
+        const std::int64_t K = 2 * mS; // key units per coarse voxel
+        const std::int64_t va = K * v[a], vb = K * v[b], vc = K * v[c];
+        const VertexKey corner[4] = {keyOf(a, va, vb, vc), keyOf(a, va, vb + K, vc),
+            keyOf(a, va, vb + K, vc + K), keyOf(a, va, vb, vc + K)};
+        emitQuad(corner, lower, upper);
+    }
+
+    /// The paper's rule for a coarse face with a split side: a fan from the face centre to
+    /// all boundary points, s + 1 of them along each split side.
+    void fan(const Coord& v, int a, const bool (&split)[4], Label lower, Label upper)
+    {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        const std::int64_t K = 2 * mS;
+        const std::int64_t va = K * v[a], vb = K * v[b], vc = K * v[c];
+        const VertexKey corner[4] = {keyOf(a, va, vb, vc), keyOf(a, va, vb + K, vc),
+            keyOf(a, va, vb + K, vc + K), keyOf(a, va, vb, vc + K)};
         const VertexKey centre = keyOf(a, va, vb + mS, vc + mS);
         const std::int64_t step[4][2] = {{2, 0}, {0, 2}, {-2, 0}, {0, -2}};
         for (int side = 0; side < 4; ++side) {
-            const VertexKey& from = corner[side];
             const int pieces = split[side] ? mS : 1;
-            const std::int64_t db = split[side] ? step[side][0] : step[side][0] * mS;
-            const std::int64_t dc = split[side] ? step[side][1] : step[side][1] * mS;
-            VertexKey p = from;
+            const std::int64_t scale = split[side] ? 1 : mS;
+            VertexKey p = corner[side];
             for (int n = 0; n < pieces; ++n) {
                 VertexKey q = p;
-                q[b] += db;
-                q[c] += dc;
+                q[b] += step[side][0] * scale;
+                q[c] += step[side][1] * scale;
                 emitTriangle(centre, p, q, lower, upper);
                 p = q;
             }
@@ -213,22 +276,80 @@ private:
                 f[c] = s * v[c] + jc;
                 Coord g = f;
                 g[a] -= 1;
-                const Label lo = fineLabel(g, lower, lowerSub);
-                const Label hi = fineLabel(f, upper, upperSub);
-                if (lo != hi) fineFace(f, a, lo, hi);
+                mFacePairs[jb * s + jc] = {fineLabel(g, lower, lowerSub),
+                                           fineLabel(f, upper, upperSub)};
+            }
+        }
+        fineFaceGrid(Coord(s * v.x(), s * v.y(), s * v.z()), a);
+    }
+
+    /// Emits the s x s fine faces at fine point @a corner with normal @a a, whose label
+    /// pairs (lower, upper) are in mFacePairs (index jb * s + jc along the next two axes).
+    /// @details Faces with the same pair are merged greedily into rectangles, each a fan
+    /// from its centre to all fine points on its boundary: the same surface in fewer
+    /// triangles. No other face can use a point inside such a rectangle (it would need two
+    /// different labels on one side of it), so this adds no T-junction.
+    void fineFaceGrid(const Coord& corner, int a)
+    {
+        const int s = mS;
+        std::fill(mUsed.begin(), mUsed.end(), char(0));
+        auto isFree = [&](int x, int y, const LabelPair& pair) {
+            return !mUsed[x * s + y] && mFacePairs[x * s + y] == pair;
+        };
+        for (int jb = 0; jb < s; ++jb) {
+            for (int jc = 0; jc < s; ++jc) {
+                const LabelPair pair = mFacePairs[jb * s + jc];
+                if (mUsed[jb * s + jc] || pair[0] == pair[1]) continue;
+                int w = 1;
+                while (jc + w < s && isFree(jb, jc + w, pair)) ++w;
+                int h = 1;
+                for (bool grow = true; grow && jb + h < s; ) {
+                    for (int y = jc; y < jc + w && grow; ++y) grow = isFree(jb + h, y, pair);
+                    if (grow) ++h;
+                }
+                for (int x = jb; x < jb + h; ++x) {
+                    for (int y = jc; y < jc + w; ++y) mUsed[x * s + y] = 1;
+                }
+                rectangle(corner, a, jb, jc, h, w, pair[0], pair[1]);
             }
         }
     }
 
-    /// The fine face at the min corner of fine voxel @a f with normal axis @a a.
-    void fineFace(const Coord& f, int a, Label lower, Label upper)
+    /// Fine faces [jb, jb + h) x [jc, jc + w) of the grid at @a corner as one polygon.
+    void rectangle(const Coord& corner, int a, int jb, int jc, int h, int w,
+                   Label lower, Label upper)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
-        const std::int64_t fa = 2 * std::int64_t(f[a]), fb = 2 * std::int64_t(f[b]),
-                           fc = 2 * std::int64_t(f[c]);
-        const VertexKey corner[4] = {keyOf(a, fa, fb, fc), keyOf(a, fa, fb + 2, fc),
-            keyOf(a, fa, fb + 2, fc + 2), keyOf(a, fa, fb, fc + 2)};
-        emitQuad(corner, lower, upper);
+        const std::int64_t ka = 2 * std::int64_t(corner[a]);
+        const std::int64_t kb = 2 * (std::int64_t(corner[b]) + jb);
+        const std::int64_t kc = 2 * (std::int64_t(corner[c]) + jc);
+        const VertexKey quad[4] = {keyOf(a, ka, kb, kc), keyOf(a, ka, kb + 2 * h, kc),
+            keyOf(a, ka, kb + 2 * h, kc + 2 * w), keyOf(a, ka, kb, kc + 2 * w)};
+        if (w * h <= w + h) { // a fan would not be smaller than the quads
+            for (int x = 0; x < h; ++x) {
+                for (int y = 0; y < w; ++y) {
+                    const VertexKey q[4] = {keyOf(a, ka, kb + 2 * x, kc + 2 * y),
+                        keyOf(a, ka, kb + 2 * x + 2, kc + 2 * y),
+                        keyOf(a, ka, kb + 2 * x + 2, kc + 2 * y + 2),
+                        keyOf(a, ka, kb + 2 * x, kc + 2 * y + 2)};
+                    emitQuad(q, lower, upper);
+                }
+            }
+            return;
+        }
+        const VertexKey centre = keyOf(a, ka, kb + h, kc + w);
+        const int pieces[4] = {h, w, h, w};
+        const std::int64_t step[4][2] = {{2, 0}, {0, 2}, {-2, 0}, {0, -2}};
+        for (int side = 0; side < 4; ++side) {
+            VertexKey p = quad[side];
+            for (int n = 0; n < pieces[side]; ++n) {
+                VertexKey q = p;
+                q[b] += step[side][0];
+                q[c] += step[side][1];
+                emitTriangle(centre, p, q, lower, upper);
+                p = q;
+            }
+        }
     }
 
     /// Fine faces inside subdivided voxel @a v, between its own subvoxels.
@@ -244,13 +365,20 @@ private:
         }
         if (!changed) return;
         const int stride[3] = {s * s, s, 1};
-        for (int x = 0; x < s; ++x) for (int y = 0; y < s; ++y) for (int z = 0; z < s; ++z) {
-            const int idx = (x * s + y) * s + z;
-            const int pos[3] = {x, y, z};
-            for (int a = 0; a < 3; ++a) {
-                if (pos[a] == 0) continue; // the voxel's own lower faces: splitFace()
-                const Label lo = mFineLabels[idx - stride[a]], hi = mFineLabels[idx];
-                if (lo != hi) fineFace(base.offsetBy(x, y, z), a, lo, hi);
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            // Planes t = 1 .. s-1 inside the voxel; t = 0 is the voxel's face: splitFace().
+            for (int t = 1; t < s; ++t) {
+                for (int jb = 0; jb < s; ++jb) {
+                    for (int jc = 0; jc < s; ++jc) {
+                        const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
+                        mFacePairs[jb * s + jc] = {mFineLabels[idx - stride[a]],
+                                                   mFineLabels[idx]};
+                    }
+                }
+                Coord corner = base;
+                corner[a] += t;
+                fineFaceGrid(corner, a);
             }
         }
     }
@@ -258,23 +386,12 @@ private:
     const int mS;
     openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> mFine;
     std::vector<Label> mFineLabels;
-    std::vector<VertexKey>* mCorners = nullptr;
-    std::vector<LabelPair>* mLabels = nullptr;
+    std::vector<LabelPair> mFacePairs;
+    std::vector<char> mUsed;
+    KeyIndex mIndex;
+    BlockMesh* mOut = nullptr;
+    std::size_t mLastPatch = 0;
 };
-
-/// Replaces the corner keys by indices into the block's sorted distinct keys.
-void
-indexCorners(const std::vector<VertexKey>& cornerKeys, BlockMesh& block)
-{
-    block.keys = cornerKeys;
-    std::sort(block.keys.begin(), block.keys.end());
-    block.keys.erase(std::unique(block.keys.begin(), block.keys.end()), block.keys.end());
-    block.corners.resize(cornerKeys.size());
-    for (std::size_t n = 0; n < cornerKeys.size(); ++n) {
-        block.corners[n] = std::uint32_t(std::lower_bound(block.keys.begin(), block.keys.end(),
-            cornerKeys[n]) - block.keys.begin());
-    }
-}
 
 /// Leaf origins of both trees; blocks are these leaves and their + neighbours.
 std::vector<Coord>
@@ -321,19 +438,22 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     InterruptFlag interrupt(options.interrupter);
 
     // 1. Triangles per block, with block-local vertex indices.
-    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
-        thread_local std::vector<VertexKey> cornerKeys;
+    auto walkBlocks = [&](const tbb::blocked_range<std::size_t>& range) {
+        if (interrupt.poll()) return;
         LabelWindow::Accessor acc(labels.coarse->tree());
         MaskWindow::Accessor maskAcc(labels.subdivided->tree());
-        LabelWindow window;
-        MaskWindow mask;
-        window.load(acc, origins[n]);
-        const bool hasMask = mask.load(maskAcc, origins[n]);
+        auto window = std::make_unique<LabelWindow>();
+        auto mask = std::make_unique<MaskWindow>();
         FaceWalker walker(labels);
-        cornerKeys.clear();
-        walker.walk(window, hasMask ? &mask : nullptr, cornerKeys, blocks[n].labels);
-        indexCorners(cornerKeys, blocks[n]);
-    });
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            window->load(acc, origins[n]);
+            const bool hasMask = mask->load(maskAcc, origins[n]);
+            walker.walk(*window, hasMask ? mask.get() : nullptr, blocks[n]);
+        }
+    };
+    const tbb::blocked_range<std::size_t> allBlocks(0, origins.size(), 4);
+    if (options.threaded) tbb::parallel_for(allBlocks, walkBlocks);
+    else walkBlocks(allBlocks);
     interrupt.throwIfStopped("extraction");
 
     // 2. Every key is numbered by one block: the one holding the coarse cell it lies in.
@@ -388,7 +508,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     // 4. Patches in (a, b) order; inside a patch, block order then emission order.
     std::map<LabelPair, std::size_t> patchIndex;
     for (const BlockMesh& block : blocks) {
-        for (const LabelPair& p : block.labels) patchIndex.emplace(p, 0);
+        for (const LabelPair& p : block.patches) patchIndex.emplace(p, 0);
     }
     InterfaceMesh mesh;
     mesh.keyScale = int(K);
@@ -399,21 +519,29 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         patch.b = entry.first[1];
         mesh.patches.push_back(patch);
     }
-    const std::size_t patchCount = mesh.patches.size();
-    // offsets[n * patchCount + p]: where block n's triangles of patch p start.
-    std::vector<std::size_t> offsets(origins.size() * patchCount, 0);
+    // start[n][l]: where block n's triangles of its local patch l go. Only the (block,
+    // patch) pairs that occur are visited, so this is linear in the output.
+    std::vector<std::vector<std::size_t>> start(origins.size());
+    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> users(mesh.patches.size());
     for (std::size_t n = 0; n < origins.size(); ++n) {
-        for (const LabelPair& p : blocks[n].labels) {
-            ++offsets[n * patchCount + patchIndex[p]];
+        const BlockMesh& block = blocks[n];
+        std::vector<std::size_t> counts(block.patches.size(), 0);
+        for (const std::uint32_t l : block.patchOf) ++counts[l];
+        start[n].resize(block.patches.size());
+        for (std::size_t l = 0; l < block.patches.size(); ++l) {
+            users[patchIndex[block.patches[l]]].push_back({n, counts[l]});
         }
     }
     std::size_t total = 0;
-    for (std::size_t p = 0; p < patchCount; ++p) {
+    for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
         mesh.patches[p].firstTriangle = total;
-        for (std::size_t n = 0; n < origins.size(); ++n) {
-            const std::size_t count = offsets[n * patchCount + p];
-            offsets[n * patchCount + p] = total;
-            total += count;
+        const LabelPair pair{mesh.patches[p].a, mesh.patches[p].b};
+        for (const auto& user : users[p]) {
+            const BlockMesh& block = blocks[user.first];
+            const std::size_t l = std::size_t(std::find(block.patches.begin(),
+                block.patches.end(), pair) - block.patches.begin());
+            start[user.first][l] = total;
+            total += user.second;
         }
         mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
     }
@@ -421,10 +549,9 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     mesh.triangles.resize(total);
     forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
         const BlockMesh& block = blocks[n];
-        std::vector<std::size_t> next(offsets.begin() + n * patchCount,
-                                      offsets.begin() + (n + 1) * patchCount);
-        for (std::size_t t = 0; t < block.labels.size(); ++t) {
-            const std::size_t at = next[patchIndex.at(block.labels[t])]++;
+        std::vector<std::size_t>& next = start[n];
+        for (std::size_t t = 0; t < block.patchOf.size(); ++t) {
+            const std::size_t at = next[block.patchOf[t]]++;
             mesh.triangles[at] = openvdb::Vec3I(block.global[block.corners[3 * t]],
                 block.global[block.corners[3 * t + 1]], block.global[block.corners[3 * t + 2]]);
         }
