@@ -483,22 +483,34 @@ void
 storeRun(const unsigned char* bytes, std::int32_t count, const openvdb::Coord& start,
          openvdb::Int32Grid::Accessor& accessor, const std::string& name)
 {
+    constexpr std::int32_t PER_WORD = std::int32_t(sizeof(std::uint64_t) / sizeof(T));
     openvdb::Coord ijk = start;
     const std::int32_t x0 = start.x();
-    for (std::int32_t i = 0; i < count; ++i) {
-        T value;
-        std::memcpy(&value, bytes + std::size_t(i) * sizeof(T), sizeof(T));
-        if (value == 0) continue;
-        if constexpr (SWAP) value = swapBytes(value);
-        if constexpr (std::is_same<T, std::uint32_t>::value) {
-            if (value > std::uint32_t(std::numeric_limits<std::int32_t>::max())) {
-                OPENVDB_THROW(openvdb::ValueError, name << ": MET_UINT element " << value
-                    << " at (" << (x0 + i) << ", " << start.y() << ", " << start.z()
-                    << ") is beyond the int32 range of labels");
+    for (std::int32_t i = 0; i < count;) {
+        // Most of a label volume is background: skip it eight bytes at a time.
+        if (count - i >= PER_WORD) {
+            std::uint64_t word;
+            std::memcpy(&word, bytes + std::size_t(i) * sizeof(T), sizeof(word));
+            if (word == 0) {
+                i += PER_WORD;
+                continue;
             }
         }
-        ijk.setX(x0 + i);
-        accessor.setValue(ijk, std::int32_t(value));
+        for (const std::int32_t end = std::min(count, i + PER_WORD); i < end; ++i) {
+            T value;
+            std::memcpy(&value, bytes + std::size_t(i) * sizeof(T), sizeof(T));
+            if (value == 0) continue;
+            if constexpr (SWAP) value = swapBytes(value);
+            if constexpr (std::is_same<T, std::uint32_t>::value) {
+                if (value > std::uint32_t(std::numeric_limits<std::int32_t>::max())) {
+                    OPENVDB_THROW(openvdb::ValueError, name << ": MET_UINT element " << value
+                        << " at (" << (x0 + i) << ", " << start.y() << ", " << start.z()
+                        << ") is beyond the int32 range of labels");
+                }
+            }
+            ijk.setX(x0 + i);
+            accessor.setValue(ijk, std::int32_t(value));
+        }
     }
 }
 
