@@ -352,7 +352,10 @@ TEST_F(TestMetaImageReader, testHeaderSizeAndTrailingBytes)
     std::copy(data.begin(), data.end(), tail.begin() + 5);
     writeBytes(this->path("tail.raw"), tail);
     writeText(this->path("tail.mhd"), header + "HeaderSize = -1\nElementDataFile = tail.raw\n");
-    for (const char* name : {"skip.mhd", "tail.mhd"}) {
+    // A data file name with a space is a name, not a pattern.
+    writeBytes(this->path("with space.raw"), data);
+    writeText(this->path("space.mhd"), header + "ElementDataFile = with space.raw\n");
+    for (const char* name : {"skip.mhd", "tail.mhd", "space.mhd"}) {
         SCOPED_TRACE(name);
         const auto grid = vdbi::readMetaImage(this->path(name));
         EXPECT_EQ(grid->activeVoxelCount(), 9u);

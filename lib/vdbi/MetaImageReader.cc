@@ -189,6 +189,23 @@ parseElementType(const std::string& name, MetaElementType& type)
     return false;
 }
 
+/// "name%03d.raw first last step": one file per slice. A single name may hold spaces.
+bool
+isFilePattern(const std::string& value)
+{
+    const std::vector<std::string> words = splitWords(value);
+    if (words.size() != 4) return false;
+    for (std::size_t i = 1; i < 4; ++i) {
+        const std::string& word = words[i];
+        const std::size_t digits = (word[0] == '-' || word[0] == '+') ? 1 : 0;
+        if (word.size() == digits
+            || word.find_first_not_of("0123456789", digits) != std::string::npos) {
+            return false;
+        }
+    }
+    return true;
+}
+
 bool
 multiplyChecked(std::uint64_t a, std::uint64_t b, std::uint64_t& product)
 {
@@ -308,8 +325,7 @@ HeaderParser::parse()
         OPENVDB_THROW(openvdb::IoError, mName << ": ElementDataFile = LIST (one file per slice)"
             " is not supported");
     }
-    if (dataFile != "local"
-        && (dataFile.find('%') != std::string::npos || splitWords(dataFile).size() > 1)) {
+    if (dataFile != "local" && isFilePattern(dataFile)) {
         OPENVDB_THROW(openvdb::IoError, mName << ": ElementDataFile = "
             << header.elementDataFile << ": file name patterns are not supported");
     }

@@ -33,7 +33,8 @@ struct MetaImageHeader
     bool isMSB = false;              ///< BinaryDataByteOrderMSB / ElementByteOrderMSB
     bool isCompressed = false;       ///< CompressedData: a zlib (or gzip) stream
     std::int64_t compressedDataSize = -1; ///< CompressedDataSize; -1 when not given
-    /// HeaderSize: bytes to skip before the data; -1: the data are the last bytes of the file.
+    /// HeaderSize: bytes to skip at the start of the data file (LOCAL: after the header);
+    /// -1: the data are the last bytes of the file.
     std::int64_t headerSize = 0;
     /// ElementDataFile as written: "LOCAL" (any case) or a file name, relative to the header.
     std::string elementDataFile;

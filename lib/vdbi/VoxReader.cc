@@ -261,9 +261,16 @@ readVox(const std::string& path)
         OPENVDB_THROW(openvdb::IoError, path << ": cannot open for reading ("
             << std::strerror(errno) << ")");
     }
-    // Whole-file read: a .vox holds at most a few 256^3 models of 4 bytes per voxel.
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                     std::istreambuf_iterator<char>());
+    // The header first, so that a large file of another kind is not read whole.
+    std::vector<unsigned char> bytes(HEADER_BYTES);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+    bytes.resize(std::size_t(in.gcount()));
+    if (bytes.size() < HEADER_BYTES || std::memcmp(bytes.data(), "VOX ", 4) != 0) {
+        return readVoxBuffer(bytes.data(), bytes.size(), path); // throws
+    }
+    // Then the whole file: a .vox holds a few models of at most 4 bytes per voxel.
+    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(in),
+                 std::istreambuf_iterator<char>());
     if (in.bad()) OPENVDB_THROW(openvdb::IoError, path << ": read error");
     return readVoxBuffer(bytes.data(), bytes.size(), path);
 }
