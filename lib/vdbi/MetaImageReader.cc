@@ -602,8 +602,7 @@ makeTransform(const MetaImageHeader& header)
 }
 
 void
-checkIsFile(const std::string& path, const std::string& messagePath,
-                    const std::string& role)
+checkIsFile(const std::string& path, const std::string& messagePath, const std::string& role)
 {
     std::error_code error;
     const fs::file_status status = fs::status(path, error);
