@@ -16,8 +16,8 @@ namespace vdbi {
 /// none, the first grid of another integer-valued type. A grid of another type is converted
 /// only where no value changes: an Int64Grid whose values all fit int32, a BoolGrid (false 0,
 /// true 1), a FloatGrid or DoubleGrid whose every value (active and inactive voxels, tiles,
-/// background) is an exact integer in the int32 range. Tiles, active states, the background value, the
-/// transform and the name are kept. An Int32Grid is returned as read, with its metadata.
+/// background) is an exact integer in the int32 range. Tiles, active states, the background
+/// value, the transform and the name are kept. An Int32Grid is returned as read, with its metadata.
 /// Every grid of the file is read (no delayed loading), so that a truncated file fails here
 /// and not in a later stage. Calls openvdb::initialize().
 /// @param path      the .vdb file
