@@ -171,9 +171,11 @@ void
 blobs(Rng& rng, Box& box, const std::vector<Label>& pool)
 {
     const int n = box.n;
-    const int count = 1 + int(rng.below(std::uint64_t(n)));
+    // Many small balls (radius 0.5 is a single voxel, 1 a cross) make corner and edge
+    // contacts; a few large ones make smooth interfaces.
+    const int count = 1 + int(rng.below(std::uint64_t(2 * n)));
     for (int b = 0; b < count; ++b) {
-        const double r = 0.5 + rng.uniform() * (n / 3.0 + 1.0);
+        const double r = 0.5 + rng.uniform() * rng.uniform() * (n / 3.0 + 1.0);
         const double cx = -r + rng.uniform() * (n + 2 * r);
         const double cy = -r + rng.uniform() * (n + 2 * r);
         const double cz = -r + rng.uniform() * (n + 2 * r);
