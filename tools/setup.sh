@@ -35,13 +35,13 @@ if ((${#missing[@]})); then
 fi
 
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j "$jobs"
-
 if [[ $mode == demo ]]; then
+    cmake --build "$build" -j "$jobs" --target vdb_interfaces
     "$build/tools/vdb_interfaces" tests/data/frogtissue.mhd -o "$build/frog.ply" \
         --per-label "$build/frog_labels" --stats
     out=$(cd "$build" && pwd)
     echo "setup: interfaces in $out/frog.ply, one closed surface per label in $out/frog_labels/"
 else
+    cmake --build "$build" -j "$jobs"
     ctest --test-dir "$build" --output-on-failure -j "$jobs"
 fi
