@@ -387,6 +387,33 @@ TEST_F(TestCli, testThreadsGiveIdenticalFiles)
     }
 }
 
+TEST_F(TestCli, testInterruptLeavesNoTemporary)
+{
+    // SIGINT while the temporary output exists: the CLI removes it and exits with 130. If
+    // the run finished first, the output is complete and the status 0.
+    const std::string script = "cd " + shellQuote(mWork.string()) + " && { "
+        + shellQuote(VDBI_CLI_PATH) + " " + shellQuote(vdbi_test::dataPath("menger.vox"))
+        + " -o menger.obj 2>" + shellQuote((mCapture / "err").string()) + " & pid=$!; "
+        + "while [ ! -e menger.obj.tmp-$pid ] && kill -0 $pid 2>/dev/null; do sleep 0.002; "
+        + "done; kill -INT $pid 2>/dev/null; wait $pid; echo $? >"
+        + shellQuote((mCapture / "status").string()) + "; }";
+    ASSERT_EQ(std::system(script.c_str()), 0);
+    const int status = std::stoi(readAll(mCapture / "status"));
+    const std::vector<std::string> files = listFolder(mWork);
+    if (status == 130) {
+        EXPECT_EQ(readAll(mCapture / "err"), "vdb_interfaces: interrupted\n");
+        EXPECT_TRUE(files.empty() || files == std::vector<std::string>{"menger.obj"});
+    } else {
+        EXPECT_EQ(status, 0);
+        EXPECT_EQ(files, std::vector<std::string>{"menger.obj"});
+    }
+    if (!files.empty()) {
+        // Present means complete: the last line is a face.
+        const std::string obj = readAll(work("menger.obj"));
+        EXPECT_EQ(obj.substr(obj.rfind('\n', obj.size() - 2) + 1, 2), "f ");
+    }
+}
+
 TEST_F(TestCli, testOptionsAccepted)
 {
     // Every option with a valid value (remeshing is accepted but not done yet).

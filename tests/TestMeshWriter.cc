@@ -10,7 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -748,5 +750,29 @@ TEST_F(TestMeshWriter, testAtomicFileFailedStream)
     out.stream() << "partial";
     out.stream().setstate(std::ios::badbit);
     EXPECT_THROW(out.commit(), openvdb::IoError);
+    EXPECT_TRUE(listFolder(mDir).empty());
+}
+
+TEST_F(TestMeshWriter, testRemoveAllTemporaryFiles)
+{
+    // The cleanup closes the registry for the whole process, so it runs in a child: one
+    // started afresh ("threadsafe"), since a plain fork of a process with TBB workers can
+    // hang; _Exit skips the static destructors for the same reason.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const std::string path = file("e.txt");
+    EXPECT_EXIT({
+        vdbi::AtomicFile out(path);
+        out.stream() << "partial";
+        out.stream().flush();
+        vdbi::removeAllTemporaryFiles();
+        const bool removed = !fs::exists(out.tempPath());
+        bool refused = false;
+        try {
+            vdbi::AtomicFile late(file("f.txt"));
+        } catch (const openvdb::IoError&) {
+            refused = true;
+        }
+        std::_Exit(removed && refused && listFolder(mDir).empty() ? 0 : 1);
+    }, ::testing::ExitedWithCode(0), "");
     EXPECT_TRUE(listFolder(mDir).empty());
 }

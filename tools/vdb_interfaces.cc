@@ -20,6 +20,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <pthread.h>      // for pthread_sigmask
+#include <signal.h>       // for sigwait
 #include <sys/resource.h> // for getrusage
 #include <unistd.h>       // for isatty, access
 
@@ -34,11 +36,9 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <limits>
 #include <memory>
-#include <optional>
-#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #ifndef VDBI_VERSION
@@ -659,11 +659,37 @@ runtimeError(const std::string& message)
     return 1;
 }
 
+/// @brief On SIGINT, SIGTERM or SIGHUP: remove the temporary files of unfinished writes,
+/// then exit with 128 + the signal number.
+/// @details The signals are blocked in every thread (threads started later, TBB's included,
+/// inherit the mask) and taken by one thread with sigwait(), so the cleanup runs as ordinary
+/// code rather than in a signal handler.
+void
+removeTemporariesOnSignal()
+{
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGHUP);
+    if (pthread_sigmask(SIG_BLOCK, &signals, nullptr) != 0) return;
+    std::thread([signals]() {
+        int signal = 0;
+        if (sigwait(&signals, &signal) != 0) return;
+        vdbi::removeAllTemporaryFiles();
+        const char message[] = "vdb_interfaces: interrupted\n";
+        [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, message,
+            sizeof message - 1);
+        std::_Exit(128 + signal);
+    }).detach();
+}
+
 } // namespace
 
 int
 main(int argc, char* argv[])
 {
+    removeTemporariesOnSignal();
     openvdb::initialize();
 
     Settings settings;

@@ -8,9 +8,52 @@
 #include <cerrno>
 #include <cstdio>   // for std::rename, std::remove
 #include <cstring>  // for std::strerror
+#include <mutex>
+#include <set>
 #include <unistd.h> // for getpid
 
 namespace vdbi {
+
+namespace {
+
+/// The temporary files not yet renamed or removed, for removeAllTemporaryFiles().
+struct Registry
+{
+    std::mutex mutex;
+    std::set<std::string> paths;
+    bool isClosed = false; ///< after removeAllTemporaryFiles(): no new files
+};
+
+Registry&
+registry()
+{
+    static Registry instance; // never destroyed before the objects that use it
+    return instance;
+}
+
+void
+unregisterTemporary(const std::string& path) noexcept
+{
+    try {
+        std::lock_guard<std::mutex> lock(registry().mutex);
+        registry().paths.erase(path);
+    } catch (...) {
+    }
+}
+
+} // namespace
+
+void
+removeAllTemporaryFiles() noexcept
+{
+    try {
+        std::lock_guard<std::mutex> lock(registry().mutex);
+        for (const std::string& path : registry().paths) std::remove(path.c_str());
+        registry().paths.clear();
+        registry().isClosed = true;
+    } catch (...) {
+    }
+}
 
 std::string
 ioErrorMessage(const std::string& path, const std::string& problem, int errnum)
@@ -26,11 +69,21 @@ AtomicFile::AtomicFile(const std::string& path, bool binary)
 {
     std::ios::openmode mode = std::ios::out | std::ios::trunc;
     if (binary) mode |= std::ios::binary;
+    {
+        // Registered before it exists, so no moment has a file that nobody would remove.
+        std::lock_guard<std::mutex> lock(registry().mutex);
+        if (registry().isClosed) {
+            mDiscarded = true;
+            OPENVDB_THROW(openvdb::IoError, mPath << ": not written: the program is exiting");
+        }
+        registry().paths.insert(mTempPath);
+    }
     errno = 0;
     mStream.open(mTempPath, mode);
     if (!mStream.is_open()) {
         const int err = errno;
         mDiscarded = true; // nothing was created
+        unregisterTemporary(mTempPath);
         OPENVDB_THROW(openvdb::IoError, ioErrorMessage(mPath, "cannot open for writing", err));
     }
 }
@@ -50,6 +103,7 @@ AtomicFile::discard() noexcept
     } catch (...) {
     }
     std::remove(mTempPath.c_str());
+    unregisterTemporary(mTempPath);
 }
 
 void
@@ -81,9 +135,16 @@ AtomicFile::commit()
         OPENVDB_THROW(openvdb::IoError, ioErrorMessage(mPath, "write failed", err));
     }
 
-    errno = 0;
-    if (std::rename(mTempPath.c_str(), mPath.c_str()) != 0) {
+    bool renamed;
+    {
+        // Under the registry's lock, so removeAllTemporaryFiles() waits for a rename.
+        std::lock_guard<std::mutex> lock(registry().mutex);
+        errno = 0;
+        renamed = std::rename(mTempPath.c_str(), mPath.c_str()) == 0;
         err = errno;
+        if (renamed) registry().paths.erase(mTempPath);
+    }
+    if (!renamed) {
         discard();
         OPENVDB_THROW(openvdb::IoError,
             ioErrorMessage(mPath, "cannot replace with the written file " + mTempPath, err));

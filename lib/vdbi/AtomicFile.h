@@ -66,6 +66,13 @@ void writeFileAtomically(const std::string& path,
                          const std::function<void(std::ostream&)>& body,
                          bool binary = true);
 
+/// @brief Removes the temporary files of every AtomicFile alive in this process.
+/// @details For a program's termination path, e.g. a thread that waits for SIGINT: the
+/// objects are left as they are, so call it only right before exiting. Thread-safe; a
+/// commit() that is renaming finishes first (its output is then complete), and AtomicFile
+/// objects created afterwards throw openvdb::IoError instead of creating a file.
+void removeAllTemporaryFiles() noexcept;
+
 /// @brief "<path>: <problem>: <strerror(errnum)>", or without the last part when errnum is 0.
 std::string ioErrorMessage(const std::string& path, const std::string& problem, int errnum);
 
