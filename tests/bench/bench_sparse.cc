@@ -148,7 +148,9 @@ struct MemoryResult
     long long triangles = 0, vertices = 0, patches = 0;
     long long coarseBytes = 0, fineBytes = 0, maskBytes = 0, meshBytes = 0;
     long criticalPeakKb = -1, fatteningPeakKb = -1, extractionPeakKb = -1;
-    long maxRssKb = 0; ///< ru_maxrss of the child, filled in by the parent
+    /// Peak RSS of the child: VmHWM before the first reset, then after every stage (the
+    /// resets make ru_maxrss report only the peak since the last one).
+    long maxRssKb = 0;
     bool ok = false;
 };
 
@@ -188,21 +190,28 @@ measureMemory(const Placement& p)
     const openvdb::Int32Grid::ConstPtr labels = vdbi::voxelizedLabels(*grid);
     r.blocks = (long long)vdbi::blockOrigins(labels->tree(), true).size();
 
+    r.maxRssKb = readMem().hwm;
     MemKb before;
+    // Peak growth of the stage that just ran; keeps the process's overall peak in maxRssKb.
+    auto peakSince = [&](bool canPeak, long& out) {
+        const MemKb after = readMem();
+        r.maxRssKb = std::max(r.maxRssKb, after.hwm);
+        if (canPeak) out = after.hwm - before.rss;
+    };
     bool canPeak = resetPeak();
     before = readMem();
     const vdbi::CriticalElements elements = vdbi::findCriticalElements(*labels, options);
-    if (canPeak) r.criticalPeakKb = readMem().hwm - before.rss;
+    peakSince(canPeak, r.criticalPeakKb);
 
     canPeak = resetPeak();
     before = readMem();
     const vdbi::RefinedLabels refined = vdbi::fattenCriticalElements(labels, elements, options);
-    if (canPeak) r.fatteningPeakKb = readMem().hwm - before.rss;
+    peakSince(canPeak, r.fatteningPeakKb);
 
     canPeak = resetPeak();
     before = readMem();
     const vdbi::InterfaceMesh mesh = vdbi::extractInterfacePatches(refined);
-    if (canPeak) r.extractionPeakKb = readMem().hwm - before.rss;
+    peakSince(canPeak, r.extractionPeakKb);
 
     r.criticalEdges = (long long)elements.edges.size();
     r.criticalVertices = (long long)elements.vertices.size();
@@ -220,7 +229,8 @@ measureMemory(const Placement& p)
 }
 
 /// @a reps rounds over all placements, interleaved so that a change of the machine's load
-/// hits every placement alike; medians per stage and placement.
+/// hits every placement alike, each round starting at another placement so that none always
+/// runs on the heap left by the same predecessor; medians per stage and placement.
 std::vector<TimeResult>
 measureTimes(int reps)
 {
@@ -231,7 +241,8 @@ measureTimes(int reps)
     std::vector<std::vector<double>> crit(PLACEMENT_COUNT), fat(PLACEMENT_COUNT),
         ext(PLACEMENT_COUNT), total(PLACEMENT_COUNT);
     for (int rep = -1; rep < reps; ++rep) { // rep -1 warms up caches and the TBB pool
-        for (std::size_t n = 0; n < PLACEMENT_COUNT; ++n) {
+        for (std::size_t m = 0; m < PLACEMENT_COUNT; ++m) {
+            const std::size_t n = (m + std::size_t(rep + 1)) % PLACEMENT_COUNT;
             const openvdb::Int32Grid::ConstPtr labels = vdbi::voxelizedLabels(*grids[n]);
             const auto t0 = Clock::now();
             const vdbi::CriticalElements elements = vdbi::findCriticalElements(*labels, options);
@@ -340,7 +351,6 @@ main(int argc, char** argv)
         MemoryResult r;
         const bool done = inChild(threads, [&] { return measureMemory(PLACEMENTS[n]); }, r, rss);
         r.ok = done && r.ok;
-        r.maxRssKb = rss;
         mem[n] = r;
         ok = ok && r.ok;
     }
@@ -357,7 +367,7 @@ main(int argc, char** argv)
     ok = ok && timed;
 
     std::printf("median of %d runs per placement (rounds over all placements, interleaved, "
-        "after one warm-up round); ms\n", reps);
+        "rotated, after one warm-up round); ms\n", reps);
     std::printf("%-22s %8s %8s %8s %8s | %6s %5s %6s %6s %6s %6s %7s %7s %7s\n", "placement",
         "crit", "fatten", "extract", "total", "voxels", "leafs", "blocks", "c.edge", "c.vert",
         "subdiv", "fine", "tris", "verts");
@@ -373,7 +383,7 @@ main(int argc, char** argv)
 
     std::printf("\nmemory: bytes (memUsage() of the voxelized input, the fine grid and the "
         "mask; vector bytes of the mesh);\npeak RSS growth per stage in kB (VmHWM after "
-        "clear_refs, minus RSS before); ru_maxrss of the placement's own process in kB\n");
+        "clear_refs, minus RSS before); maxrss: peak RSS of the placement's own process in kB\n");
     std::printf("%-22s %9s %9s %9s %9s | %7s %7s %7s | %9s\n", "placement", "input", "fine",
         "mask", "mesh", "crit", "fatten", "extract", "maxrss");
     for (std::size_t n = 0; n < PLACEMENT_COUNT; ++n) {
@@ -403,6 +413,7 @@ main(int argc, char** argv)
                 ratio(double(m.maxRssKb), double(bm.maxRssKb)));
         }
     }
-    std::printf("\nload average after: %s\n", loadAverage().c_str());
+    std::printf("\nru_maxrss of the timing process (all placements): %ld kB\n", timingRss);
+    std::printf("load average after: %s\n", loadAverage().c_str());
     return ok ? 0 : 1;
 }
