@@ -146,15 +146,18 @@ public:
         , mUsed(std::size_t(mS) * mS)
     {}
 
-    void walk(const LabelWindow& w, const MaskWindow* mask, BlockMesh& out)
+    void walk(const LabelWindow& w, const MaskWindow* mask, const openvdb::CoordBBox& owners,
+              BlockMesh& out)
     {
         mOut = &out;
         mIndex.reset(out.keys);
         const Coord& o = w.origin();
+        const bool clipped = !owners.empty();
         for (int i = 0; i < BLOCK_DIM; ++i) {
             for (int j = 0; j < BLOCK_DIM; ++j) {
                 for (int k = 0; k < BLOCK_DIM; ++k) {
                     const Coord v = o.offsetBy(i, j, k);
+                    if (clipped && !owners.isInside(v)) continue;
                     const int flat = LabelWindow::index(i + 1, j + 1, k + 1);
                     const Label upper = w.data()[flat];
                     const bool upperSub = mask && mask->at(flat);
@@ -446,9 +449,14 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         auto mask = std::make_unique<MaskWindow>();
         FaceWalker walker(labels);
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            // Blocks outside the owner box emit nothing but still number their keys.
+            if (!options.ownerBox.empty() && !options.ownerBox.hasOverlap(
+                    openvdb::CoordBBox(origins[n], origins[n].offsetBy(BLOCK_DIM - 1)))) {
+                continue;
+            }
             window->load(acc, origins[n]);
             const bool hasMask = mask->load(maskAcc, origins[n]);
-            walker.walk(*window, hasMask ? mask.get() : nullptr, blocks[n]);
+            walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, blocks[n]);
         }
     };
     const tbb::blocked_range<std::size_t> allBlocks(0, origins.size(), 4);

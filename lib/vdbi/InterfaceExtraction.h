@@ -12,6 +12,9 @@ namespace vdbi {
 
 struct ExtractionOptions
 {
+    /// Only faces owned by voxels in this box (face (v, axis) is owned by voxel v); an empty
+    /// box means all. Tiles of a grid extracted this way stitch by their vertex keys.
+    openvdb::CoordBBox ownerBox;
     bool threaded = true;
     openvdb::util::NullInterrupter* interrupter = nullptr;
 };

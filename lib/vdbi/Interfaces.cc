@@ -35,6 +35,30 @@ private:
     Clock::time_point mStart;
 };
 
+/// The labels of @a region and a halo of Options::HALO voxels around it, background beyond.
+/// @details Clipping makes critical elements at the halo's outer edge that the whole grid
+/// does not have; their fattening reaches one voxel, and the faces owned by @a region read
+/// labels and subdivision flags at most one voxel outside it, so a halo of 3 keeps them
+/// out of sight. Only the leaves that meet the halo box are copied.
+openvdb::Int32Grid::ConstPtr
+labelsAround(const openvdb::Int32Grid& grid, const openvdb::CoordBBox& region)
+{
+    openvdb::CoordBBox box = region;
+    box.expand(Options::HALO);
+    const openvdb::Int32Grid::ConstPtr voxels = voxelizedLabels(grid);
+    openvdb::Int32Grid::Ptr part = openvdb::Int32Grid::create(grid.background());
+    part->setTransform(grid.transform().copy());
+    std::vector<const openvdb::Int32Tree::LeafNodeType*> leaves;
+    voxels->tree().getNodes(leaves);
+    for (const auto* leaf : leaves) {
+        if (box.hasOverlap(leaf->getNodeBoundingBox())) {
+            part->tree().addLeaf(new openvdb::Int32Tree::LeafNodeType(*leaf));
+        }
+    }
+    part->tree().clip(box);
+    return part;
+}
+
 void
 validate(const Options& options)
 {
@@ -59,7 +83,8 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     Statistics& stats = result.statistics;
     StageClock clock(stats);
 
-    const openvdb::Int32Grid::ConstPtr labels = voxelizedLabels(grid);
+    const openvdb::Int32Grid::ConstPtr labels = options.region.empty()
+        ? voxelizedLabels(grid) : labelsAround(grid, options.region);
     stats.labelCount = collectLabels(*labels, options.repair.threaded).size();
     clock.lap("prepare");
 
@@ -78,6 +103,7 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
 
     ExtractionOptions extraction;
     extraction.threaded = options.repair.threaded;
+    extraction.ownerBox = options.region;
     extraction.interrupter = options.repair.interrupter;
     result.mesh = extractInterfacePatches(refined, extraction);
     clock.lap("extraction");

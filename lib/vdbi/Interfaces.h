@@ -23,6 +23,12 @@ struct Options
     bool remesh = false;         ///< remeshing is not available yet: the raw extraction
     double edgeLength = 0.0;     ///< target edge length in world units (0: one voxel)
     int iterations = 10;         ///< remeshing iterations
+    /// Extract only the faces owned by the voxels of this box (face (v, axis) belongs to
+    /// voxel v), reading a halo of HALO voxels around it; empty: the whole grid. The raw
+    /// patches of boxes that tile a grid stitch by their vertex keys into exactly the
+    /// triangles of the whole grid (the base for splitting work across machines).
+    openvdb::CoordBBox region;
+    static constexpr int HALO = 3;
 };
 
 /// What a run found and how long its stages took.
