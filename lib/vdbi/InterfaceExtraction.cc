@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <map>
 #include <memory>
 
@@ -64,6 +65,7 @@ struct BlockMesh
     std::vector<std::uint32_t> corners;     ///< 3 per triangle: indices into keys
     std::vector<LabelPair> patches;         ///< distinct label pairs, in order of first use
     std::vector<std::uint32_t> patchOf;     ///< per triangle: index into patches
+    std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
     std::vector<VertexKey> owned;           ///< keys this block numbers (see ownerOf), sorted
     std::vector<std::uint32_t> global;      ///< global index of every entry of keys
 };
@@ -456,7 +458,10 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             }
             window->load(acc, origins[n]);
             const bool hasMask = mask->load(maskAcc, origins[n]);
-            walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, blocks[n]);
+            BlockMesh& block = blocks[n];
+            walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
+            block.patchCounts.assign(block.patches.size(), 0);
+            for (const std::uint32_t l : block.patchOf) ++block.patchCounts[l];
         }
     };
     const tbb::blocked_range<std::size_t> allBlocks(0, origins.size(), 4);
@@ -496,14 +501,21 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         vertexOffset[n + 1] = vertexOffset[n] + blocks[n].owned.size();
     }
 
-    // 3. Global indices of every block's keys, through their owners.
-    bool lostKey = false;
+    // 3. Global indices of every block's keys, through their owners (among X + {0, 8}^3).
+    std::atomic<bool> lostKey{false};
     forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
         BlockMesh& block = blocks[n];
+        std::ptrdiff_t owners[8];
+        for (int m = 0; m < 8; ++m) {
+            owners[m] = blockIndex(origins[n].offsetBy((m & 1) ? BLOCK_DIM : 0,
+                (m & 2) ? BLOCK_DIM : 0, (m & 4) ? BLOCK_DIM : 0));
+        }
         block.global.resize(block.keys.size());
         for (std::size_t i = 0; i < block.keys.size(); ++i) {
             const VertexKey& k = block.keys[i];
-            const std::ptrdiff_t owner = blockIndex(ownerOf(k));
+            const Coord d = ownerOf(k) - origins[n];
+            const std::ptrdiff_t owner = owners[(d.x() > 0) | ((d.y() > 0) << 1)
+                | ((d.z() > 0) << 2)];
             if (owner < 0) { lostKey = true; continue; }
             const auto& owned = blocks[owner].owned;
             const auto it = std::lower_bound(owned.begin(), owned.end(), k);
@@ -533,11 +545,9 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     std::vector<std::vector<std::pair<std::size_t, std::size_t>>> users(mesh.patches.size());
     for (std::size_t n = 0; n < origins.size(); ++n) {
         const BlockMesh& block = blocks[n];
-        std::vector<std::size_t> counts(block.patches.size(), 0);
-        for (const std::uint32_t l : block.patchOf) ++counts[l];
         start[n].resize(block.patches.size());
         for (std::size_t l = 0; l < block.patches.size(); ++l) {
-            users[patchIndex[block.patches[l]]].push_back({n, counts[l]});
+            users[patchIndex[block.patches[l]]].push_back({n, block.patchCounts[l]});
         }
     }
     std::size_t total = 0;
