@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <set>
@@ -92,6 +93,7 @@ countFans(const std::vector<Tri>& tris)
     FanCount out;
     std::vector<Id> nodes;
     std::vector<int> parent, degree;
+    std::vector<char> closedFlag;
     for (std::size_t i = 0; i < entries.size();) {
         std::size_t j = i;
         while (j < entries.size() && entries[j].v == entries[i].v) ++j;
@@ -119,19 +121,23 @@ countFans(const std::vector<Tri>& tris)
             parent[find(a)] = find(b);
         }
         // Per component: closed when every node has degree 2.
-        std::unordered_map<int, bool> closed;
+        // closedFlag[root]: 0 not a root, 1 closed so far, 2 open.
+        closedFlag.assign(nodes.size(), 0);
         bool complexEdge = false;
         for (std::size_t n = 0; n < nodes.size(); ++n) {
-            const int root = find(int(n));
-            auto it = closed.emplace(root, true).first;
-            if (degree[n] != 2) it->second = false;
+            char& flag = closedFlag[std::size_t(find(int(n)))];
+            if (flag == 0) flag = 1;
+            if (degree[n] != 2) flag = 2;
             if (degree[n] > 2) complexEdge = true;
         }
-        std::size_t closedCount = 0;
-        for (const auto& c : closed) closedCount += c.second ? 1 : 0;
-        if (complexEdge || (closed.size() > 1 && closedCount > 0)) {
+        std::size_t components = 0, closedCount = 0;
+        for (char flag : closedFlag) {
+            components += flag != 0 ? 1 : 0;
+            closedCount += flag == 1 ? 1 : 0;
+        }
+        if (complexEdge || (components > 1 && closedCount > 0)) {
             ++out.bad;
-        } else if (closed.size() == 1) {
+        } else if (components == 1) {
             ++out.oneFan;
             if (closedCount == 1) ++out.oneClosedFan;
         } else {
@@ -274,55 +280,98 @@ checkMesh(const vdbi::InterfaceMesh& mesh, bool useKeys)
     r.unusedPoints = std::size_t(std::count(used.begin(), used.end(), false));
     if (r.structureErrors) return r;
 
-    // Per patch.
-    std::unordered_set<Tri, TriHash> allTris;
-    std::unordered_map<std::uint64_t, int> boundaryOf; // undirected edge -> patches bounded
-    std::vector<std::vector<std::uint64_t>> patchBoundary(mesh.patches.size());
+    // Per patch. Edges are sorted lists of 64-bit keys (hash maps cost 10x more here).
+    std::vector<Tri> allSorted;
+    allSorted.reserve(tris.size());
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> boundary; // (edge, patch)
     for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
         const auto& patch = mesh.patches[p];
         PatchReport pr;
         pr.a = patch.a;
         pr.b = patch.b;
         pr.triangles = patch.triangleCount;
-        std::vector<Tri> good;
-        std::unordered_set<Tri, TriHash> seen;
-        std::unordered_map<std::uint64_t, int> directed, undirected;
-        for (std::size_t t = patch.firstTriangle; t < patch.firstTriangle + patch.triangleCount; ++t) {
+        std::vector<Tri> good, seen;
+        std::vector<std::uint64_t> directed, undirected;
+        const std::size_t end = patch.firstTriangle + patch.triangleCount;
+        for (std::size_t t = patch.firstTriangle; t < end; ++t) {
             const Tri& x = tris[t];
             if (x[0] == x[1] || x[1] == x[2] || x[0] == x[2]) {
                 ++pr.degenerateTriangles;
                 continue;
             }
-            if (!allTris.insert(sorted(x)).second) ++r.duplicateTrianglesGlobal;
-            if (!seen.insert(sorted(x)).second) {
-                ++pr.duplicateTriangles;
-                continue;
-            }
+            seen.push_back(sorted(x));
             good.push_back(x);
+        }
+        std::sort(seen.begin(), seen.end());
+        pr.duplicateTriangles = std::size_t(seen.end() - std::unique(seen.begin(), seen.end()));
+        allSorted.insert(allSorted.end(), seen.begin(), seen.end());
+        if (pr.duplicateTriangles) {
+            // Keep one triangle of every vertex set for the edge and fan checks.
+            std::vector<Tri> kept, keys;
+            for (const Tri& x : good) {
+                const Tri k = sorted(x);
+                if (!std::binary_search(keys.begin(), keys.end(), k)) {
+                    keys.insert(std::upper_bound(keys.begin(), keys.end(), k), k);
+                    kept.push_back(x);
+                }
+            }
+            good.swap(kept);
+        }
+        for (const Tri& x : good) {
+            if (r.usedKeys) {
+                const auto& k0 = mesh.pointKeys[x[0]];
+                const auto& k1 = mesh.pointKeys[x[1]];
+                const auto& k2 = mesh.pointKeys[x[2]];
+                const std::int64_t u[3] = {k1[0] - k0[0], k1[1] - k0[1], k1[2] - k0[2]};
+                const std::int64_t v[3] = {k2[0] - k0[0], k2[1] - k0[1], k2[2] - k0[2]};
+                const std::int64_t n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                                           u[0] * v[1] - u[1] * v[0]};
+                const int nonZero = (n[0] != 0) + (n[1] != 0) + (n[2] != 0);
+                if (nonZero == 1) {
+                    pr.twiceAreaKeys += std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]);
+                } else {
+                    ++pr.skewTriangles;
+                }
+            }
             for (int k = 0; k < 3; ++k) {
-                const Id u = x[k], v = x[(k + 1) % 3];
-                if (++directed[edgeKey(u, v)] == 2) ++pr.duplicateDirectedEdges;
-                if (++undirected[undirectedKey(u, v)] == 3) ++pr.nonManifoldEdges;
+                directed.push_back(edgeKey(x[k], x[(k + 1) % 3]));
+                undirected.push_back(undirectedKey(x[k], x[(k + 1) % 3]));
             }
         }
-        for (const auto& e : undirected) {
-            if (e.second == 1) {
-                ++pr.boundaryEdges;
-                ++boundaryOf[e.first];
-                patchBoundary[p].push_back(e.first);
+        std::sort(directed.begin(), directed.end());
+        for (std::size_t i = 1; i < directed.size(); ++i) {
+            if (directed[i] == directed[i - 1] && (i < 2 || directed[i - 2] != directed[i])) {
+                ++pr.duplicateDirectedEdges;
             }
+        }
+        std::sort(undirected.begin(), undirected.end());
+        for (std::size_t i = 0; i < undirected.size();) {
+            std::size_t j = i;
+            while (j < undirected.size() && undirected[j] == undirected[i]) ++j;
+            if (j - i == 1) {
+                ++pr.boundaryEdges;
+                boundary.emplace_back(undirected[i], std::uint32_t(p));
+            } else if (j - i > 2) {
+                ++pr.nonManifoldEdges;
+            }
+            i = j;
         }
         const FanCount fans = countFans(good);
         pr.closedFanPlusMore = fans.bad;
         pr.severalOpenFans = fans.severalOpenFans;
         r.patchReports.push_back(pr);
     }
+    std::sort(allSorted.begin(), allSorted.end());
+    r.duplicateTrianglesGlobal =
+        std::size_t(allSorted.end() - std::unique(allSorted.begin(), allSorted.end()));
     // Across patches: a patch's boundary is made of other patches' boundaries (feature curves
     // where 3 or 4 interface faces meet).
-    for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
-        for (std::uint64_t e : patchBoundary[p]) {
-            if (boundaryOf[e] < 2) ++r.patchReports[p].unmatchedBoundaryEdges;
-        }
+    std::sort(boundary.begin(), boundary.end());
+    for (std::size_t i = 0; i < boundary.size();) {
+        std::size_t j = i;
+        while (j < boundary.size() && boundary[j].first == boundary[i].first) ++j;
+        if (j - i < 2) ++r.patchReports[boundary[i].second].unmatchedBoundaryEdges;
+        i = j;
     }
 
     // Per label: the union of its patches, flipped where it is the b side, must be closed.
@@ -339,30 +388,36 @@ checkMesh(const vdbi::InterfaceMesh& mesh, bool useKeys)
         lr.label = entry.first;
         const std::vector<Tri>& lt = entry.second;
         lr.triangles = lt.size();
-        std::unordered_map<std::uint64_t, int> directed, undirected;
-        std::unordered_set<Id> vertices;
+        // (undirected edge, 1 if it runs from the smaller id) per triangle side.
+        std::vector<std::uint64_t> sides;
+        std::vector<Id> vertices;
+        sides.reserve(lt.size() * 3);
         for (const Tri& x : lt) {
             for (int k = 0; k < 3; ++k) {
-                vertices.insert(x[k]);
-                ++directed[edgeKey(x[k], x[(k + 1) % 3])];
-                ++undirected[undirectedKey(x[k], x[(k + 1) % 3])];
+                vertices.push_back(x[k]);
+                const Id u = x[k], v = x[(k + 1) % 3];
+                sides.push_back((undirectedKey(u, v) << 1) | (u < v ? 1u : 0u));
             }
         }
-        for (const auto& e : undirected) {
-            if (e.second != 2) {
+        std::sort(vertices.begin(), vertices.end());
+        vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+        std::sort(sides.begin(), sides.end());
+        std::size_t edgeCount = 0;
+        for (std::size_t i = 0; i < sides.size();) {
+            std::size_t j = i;
+            while (j < sides.size() && (sides[j] >> 1) == (sides[i] >> 1)) ++j;
+            ++edgeCount;
+            if (j - i != 2) {
                 ++lr.openEdges;
-                continue;
+            } else if ((sides[i] & 1) == (sides[i + 1] & 1)) {
+                ++lr.orientationErrors; // both sides run the same way
             }
-            const Id u = Id(e.first >> 32), v = Id(e.first & 0xFFFFFFFFu);
-            const auto f = directed.find(edgeKey(u, v)), b = directed.find(edgeKey(v, u));
-            if (f == directed.end() || b == directed.end() || f->second != 1 || b->second != 1) {
-                ++lr.orientationErrors;
-            }
+            i = j;
         }
         const FanCount fans = countFans(lt);
         lr.badFanVertices = vertices.size() - fans.oneClosedFan;
         lr.vertices = vertices.size();
-        lr.edges = undirected.size();
+        lr.edges = edgeCount;
         lr.euler = std::int64_t(lr.vertices) - std::int64_t(lr.edges) + std::int64_t(lr.triangles);
         // Volume by the divergence theorem: sum of det(p0, p1, p2) / 6.
         if (r.usedKeys) {
@@ -394,12 +449,15 @@ checkMesh(const vdbi::InterfaceMesh& mesh, bool useKeys)
     // T-junctions: a vertex strictly inside a mesh edge is a lattice point on the segment
     // between the edge's keys (exact).
     if (r.usedKeys) {
-        std::unordered_set<vdbi::VertexKey, KeyHash> keys(mesh.pointKeys.begin(),
-                                                          mesh.pointKeys.end());
-        std::unordered_set<std::uint64_t> edges;
+        std::vector<vdbi::VertexKey> keys(mesh.pointKeys.begin(), mesh.pointKeys.end());
+        std::sort(keys.begin(), keys.end());
+        std::vector<std::uint64_t> edges;
+        edges.reserve(tris.size() * 3);
         for (const Tri& x : tris) {
-            for (int k = 0; k < 3; ++k) edges.insert(undirectedKey(x[k], x[(k + 1) % 3]));
+            for (int k = 0; k < 3; ++k) edges.push_back(undirectedKey(x[k], x[(k + 1) % 3]));
         }
+        std::sort(edges.begin(), edges.end());
+        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
         for (std::uint64_t e : edges) {
             const auto& a = mesh.pointKeys[e >> 32];
             const auto& b = mesh.pointKeys[e & 0xFFFFFFFFu];
@@ -408,7 +466,7 @@ checkMesh(const vdbi::InterfaceMesh& mesh, bool useKeys)
             for (std::int64_t t = 1; t < g; ++t) {
                 const vdbi::VertexKey q = {a[0] + t * d[0] / g, a[1] + t * d[1] / g,
                                            a[2] + t * d[2] / g};
-                if (keys.count(q)) {
+                if (std::binary_search(keys.begin(), keys.end(), q)) {
                     ++r.tJunctions;
                     break;
                 }

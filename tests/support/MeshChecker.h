@@ -39,6 +39,10 @@ struct PatchReport
     /// Vertices whose triangles form several open fans (the boundary touches itself there;
     /// allowed, counted).
     std::size_t severalOpenFans = 0;
+    /// Twice the area of the axis-aligned triangles in key units (exact; keys only): a fine
+    /// face (2 x 2 keys) counts 8, a coarse face 2 keyScale^2, however it is triangulated.
+    std::int64_t twiceAreaKeys = 0;
+    std::size_t skewTriangles = 0;          ///< triangles in no coordinate plane (keys only)
 
     bool ok() const
     {
