@@ -273,6 +273,44 @@ TEST_F(TestRepairProperties, testHandMadeGrids)
     }
 }
 
+TEST_F(TestRepairProperties, testCheckerFailsOnBrokenLibraryOutput)
+{
+    // The checks below run on the library's own result type; show that on that path too the
+    // checker can fail. (1) The repair of two voxels sharing a vertex with its relabelled
+    // subvoxels dropped (subdivision only): the pinch at fine point (5,5,5) is back, for
+    // labels 0 and 1. (2) One relabelled subvoxel outside every subdivided voxel is reported,
+    // and where it touches a voxel of its label only along an edge the checker finds that.
+    // (3) A subvoxel relabelled to a label 3 voxels away breaks the distance bound.
+    const LibraryRun run = repair(*vdbi_test::twoVoxelsSharingVertex());
+    ASSERT_TRUE(vdbi_test::checkManifold(run.refined).ok());
+
+    vdbi::RefinedLabels dropped = run.refined;
+    dropped.fine = openvdb::Int32Grid::create(0);
+    const auto a = vdbi_test::checkManifold(dropped);
+    EXPECT_EQ(a.failureCount, 2u) << a.summary();
+    ASSERT_FALSE(a.failures.empty());
+    EXPECT_EQ(a.failures[0].point, Coord(5, 5, 5));
+
+    vdbi::RefinedLabels stray = run.refined;
+    stray.fine = run.refined.fine->deepCopy();
+    // Fine voxel (-1,-1,4) lies in coarse voxel (-1,-1,0), outside the subdivided block; as
+    // label 1 it touches fine voxel (0,0,4) of voxel (0,0,0) only along the fine edge from
+    // (0,0,4) to (0,0,5).
+    stray.fine->tree().setValueOn(Coord(-1, -1, 4), 1);
+    const auto b = vdbi_test::checkManifold(stray);
+    EXPECT_EQ(b.fineOutsideSubdivided, 1u);
+    EXPECT_GT(b.failureCount, 0u) << b.summary();
+    const auto d = vdbi_test::checkDistance(stray);
+    EXPECT_TRUE(d.ok()); // 1/5 from voxel (0,0,0): close, only the topology is wrong
+
+    vdbi::RefinedLabels far = run.refined;
+    far.fine = run.refined.fine->deepCopy();
+    far.fine->tree().setValueOn(Coord(-15, 2, 2), 1); // in coarse voxel (-3,0,0)
+    const auto e = vdbi_test::checkDistance(far);
+    EXPECT_FALSE(e.ok());
+    EXPECT_DOUBLE_EQ(e.maxDistance, 2.0); // nothing of label 1 within 2 voxels
+}
+
 TEST_F(TestRepairProperties, testAllBlockClasses)
 {
     // §6: every labelling of a 2x2x2 block padded with background (1,091,670 labellings in
