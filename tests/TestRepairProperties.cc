@@ -46,6 +46,16 @@ struct LibraryRun
     vdbi::RefinedLabels refined;
 };
 
+/// Serial options: the exhaustive sweeps run thousands of tiny grids, where threads only add
+/// overhead (testThreadingGivesIdenticalResults shows that threading changes nothing).
+vdbi::RepairOptions
+serialOptions()
+{
+    vdbi::RepairOptions options;
+    options.threaded = false;
+    return options;
+}
+
 /// The repair as a caller runs it (ALGORITHM.md §2-§3, LabelGrid.h).
 LibraryRun
 repair(const openvdb::Int32Grid& grid, const vdbi::RepairOptions& options = {})
@@ -322,7 +332,7 @@ TEST_F(TestRepairProperties, testAllBlockClasses)
     std::string firstMismatch;
     vdbi_test::forEachBlockClass([&](std::size_t, const vdbi_test::BlockClass& c) {
         const auto grid = vdbi_test::blockGrid(c.labels);
-        const LibraryRun run = repair(*grid);
+        const LibraryRun run = repair(*grid, serialOptions());
         sweep.add(blockName(c.labels), run, true);
         const std::string diff =
             compareElements(run.elements, vdbi_test::referenceCriticalElements(*grid));
@@ -346,7 +356,7 @@ TEST_F(TestRepairProperties, testAllBlockClassesReversedPriority)
     Sweep sweep;
     vdbi_test::forEachBlockClass([&](std::size_t, const vdbi_test::BlockClass& c) {
         const auto grid = vdbi_test::blockGrid(c.labels);
-        vdbi::RepairOptions options;
+        vdbi::RepairOptions options = serialOptions();
         options.priority = reversedPriority(*grid);
         sweep.add(blockName(c.labels), repair(*grid, options), true);
     });
@@ -362,7 +372,7 @@ TEST_F(TestRepairProperties, testAll223Volumes)
     const auto t0 = std::chrono::steady_clock::now();
     Sweep sweep;
     vdbi_test::forEachBox223Class([&](std::size_t, const vdbi_test::Box223Class& c) {
-        sweep.add("2x2x3 volume", repair(*vdbi_test::box223Grid(c.labels)), true);
+        sweep.add("2x2x3 volume", repair(*vdbi_test::box223Grid(c.labels), serialOptions()), true);
     });
     EXPECT_EQ(sweep.volumes, 36639u);
     EXPECT_EQ(sweep.failingVolumes, 0u) << sweep.firstFailure;

@@ -416,21 +416,25 @@ checkManifold(const vdbi::RefinedLabels& labels, const CheckOptions& options)
     const int s = r.subdivision;
 
     // Subdivided voxels, plus the coarse voxels of any active fine voxel (which should all be
-    // subdivided: count the others).
-    openvdb::MaskGrid::Ptr refined = r.subdivided->deepCopy();
+    // subdivided: count the others and visit their closures too).
+    openvdb::MaskGrid::Ptr stray = openvdb::MaskGrid::create(false);
     std::size_t outside = 0;
     {
         auto macc = r.subdivided->getConstAccessor();
-        auto racc = refined->getAccessor();
+        auto sacc = stray->getAccessor();
         forEachActiveVoxel(*r.fine, [&](const Coord& f, Label) {
             const Coord c = vdbi::coarseOf(f, s);
             if (!macc.isValueOn(c)) {
                 ++outside;
-                racc.setValueOn(c);
+                sacc.setValueOn(c);
             }
         });
     }
-    openvdb::MaskGrid::Ptr points = checkPoints(*r.coarse, *refined, s);
+    openvdb::MaskGrid::Ptr points = checkPoints(*r.coarse, *r.subdivided, s);
+    if (outside > 0) {
+        openvdb::MaskGrid::Ptr more = checkPoints(*r.coarse, *stray, s);
+        points->tree().topologyUnion(more->tree());
+    }
 
     std::vector<const openvdb::MaskTree::LeafNodeType*> leaves;
     points->tree().getNodes(leaves);
