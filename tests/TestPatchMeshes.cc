@@ -4,38 +4,23 @@
 #include <vdbi/Exceptions.h>
 #include <vdbi/PatchMeshes.h>
 
+#include "support/RandomVolumes.h"
+
 #include <gtest/gtest.h>
 
 #include <utility>
 #include <vector>
 
-using openvdb::Coord;
-
 class TestPatchMeshes : public ::testing::Test {};
 
-namespace {
-
-openvdb::Int32Grid::Ptr
-noiseGrid(unsigned seed, int size, int labels)
-{
-    auto grid = openvdb::Int32Grid::create(0);
-    auto acc = grid->getAccessor();
-    unsigned state = seed;
-    for (int x = 0; x < size; ++x) for (int y = 0; y < size; ++y) for (int z = 0; z < size; ++z) {
-        state = state * 1664525u + 1013904223u;
-        acc.setValue(Coord(x, y, z), int((state >> 16) % unsigned(labels)));
-    }
-    return grid;
-}
-
-} // namespace
 
 // Every patch is a 2-manifold with boundary, so the halfedge structure accepts every
 // triangle; vertices are the patch's own points, shared points keep their index.
 TEST_F(TestPatchMeshes, testEveryTriangleIsAccepted)
 {
-    for (unsigned seed = 1; seed <= 20; ++seed) {
-        const auto result = vdbi::extractInterfaces(*noiseGrid(seed, 10, 2 + seed % 5));
+    for (const auto g : vdbi_test::allGenerators()) for (unsigned seed = 1; seed <= 4; ++seed) {
+        const auto result = vdbi::extractInterfaces(
+            *vdbi_test::randomVolume(g, seed, 10, 2 + int(seed % 5)));
         const auto patches = vdbi::toPatchMeshes(result.mesh);
         ASSERT_EQ(patches.size(), result.mesh.patches.size());
         for (std::size_t p = 0; p < patches.size(); ++p) {
