@@ -5,6 +5,12 @@
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelGrid.h>
 
+#include "support/BlockEnumeration.h"
+#include "support/RefinedChecker.h"
+#include "support/TestData.h"
+
+#include <vdbi/LabelVolumeReader.h>
+
 #include <gtest/gtest.h>
 
 #include <tbb/task_arena.h>
@@ -115,7 +121,125 @@ constraintSets()
     return sets;
 }
 
+/// Fine points at which both labels of a constraint occur (their closed sets touch), visited
+/// at the checker's points: a coarse element where A and B meet is critical, hence subdivided,
+/// so every other point sees a stretched coarse element without both.
+std::size_t
+touchingPoints(const vdbi::RefinedLabels& r, const std::vector<SeparationConstraint>& cs)
+{
+    const auto points = vdbi_test::checkPoints(*r.coarse, *r.subdivided, r.subdivision);
+    vdbi::RefinedLabels::Accessor acc(r);
+    std::size_t touching = 0;
+    for (auto it = points->cbeginValueOn(); it; ++it) {
+        vdbi::Label l[8];
+        for (int n = 0; n < 8; ++n) {
+            l[n] = acc.fineLabel(it.getCoord().offsetBy((n & 1) - 1, ((n >> 1) & 1) - 1,
+                                                        ((n >> 2) & 1) - 1));
+        }
+        for (const SeparationConstraint& c : cs) {
+            const bool a = std::find(l, l + 8, c.a) != l + 8;
+            const bool b = std::find(l, l + 8, c.b) != l + 8;
+            touching += (a && b) ? 1 : 0;
+        }
+    }
+    return touching;
+}
+
+/// Repairs every 2x2x2 block class (up to the 48 symmetries, ALGORITHM.md §6) under single
+/// constraints whose separated labels occur in it (the background included) and whose
+/// separator is another label of it or an absent label of lowest or highest priority; counts
+/// the runs where the independent vertex-link checker fails or A and B meet. With
+/// @a perClass > 0 only that many constraints per class, chosen by a seeded generator.
+void
+checkBlockClassesWithConstraints(std::size_t perClass)
+{
+    std::size_t runs = 0, failures = 0, touching = 0;
+    std::uint64_t state = 0x9E3779B97F4A7C15ull;
+    vdbi_test::forEachBlockClass([&](std::size_t, const vdbi_test::BlockClass& bc) {
+        std::vector<vdbi::Label> present(bc.labels.begin(), bc.labels.end());
+        present.push_back(0);
+        std::sort(present.begin(), present.end());
+        present.erase(std::unique(present.begin(), present.end()), present.end());
+        std::vector<vdbi::Label> separators = present;
+        separators.push_back(-1);
+        separators.push_back(100);
+        std::vector<SeparationConstraint> all;
+        for (std::size_t i = 0; i < present.size(); ++i) {
+            for (std::size_t j = i + 1; j < present.size(); ++j) {
+                for (const vdbi::Label c : separators) {
+                    if (c != present[i] && c != present[j]) all.push_back({present[i], present[j], c});
+                }
+            }
+        }
+        if (perClass > 0 && all.size() > perClass) {
+            std::vector<SeparationConstraint> some;
+            for (std::size_t n = 0; n < perClass; ++n) {
+                state = state * 6364136223846793005ull + 1442695040888963407ull;
+                some.push_back(all[(state >> 33) % all.size()]);
+            }
+            all.swap(some);
+        }
+        const auto grid = vdbi_test::blockGrid(bc.labels);
+        for (const SeparationConstraint& c : all) {
+            vdbi::RepairOptions options;
+            options.threaded = false;
+            options.constraints = {c};
+            const auto refined = repair(*grid, options);
+            vdbi_test::CheckOptions check;
+            check.threaded = false;
+            check.computeEuler = false;
+            failures += vdbi_test::checkManifold(refined, check).ok() ? 0 : 1;
+            touching += touchingPoints(refined, options.constraints) ? 1 : 0;
+            ++runs;
+        }
+    });
+    std::cout << runs << " (block class, constraint) runs: " << failures
+              << " non-manifold, " << touching << " touching\n";
+    EXPECT_EQ(failures, 0u);
+    EXPECT_EQ(touching, 0u);
+    EXPECT_GE(runs, std::min<std::size_t>(perClass, 1) * 23982u);
+}
+
 } // namespace
+
+// Every block class with three seeded single constraints each.
+TEST_F(TestConstraints, testBlockClassesWithConstraints)
+{
+    checkBlockClassesWithConstraints(3);
+}
+
+// Every block class with every single constraint (about five million repairs: run it by
+// hand with --gtest_also_run_disabled_tests).
+TEST_F(TestConstraints, DISABLED_testEveryBlockClassWithEverySingleConstraint)
+{
+    checkBlockClassesWithConstraints(0);
+}
+
+// The frog with constraints between neighbouring tissues (the three largest interfaces
+// between two tissues): separated everywhere, no critical element left, no patch between a
+// separated pair.
+TEST_F(TestConstraints, testFrogWithRealConstraints)
+{
+    const auto frog = vdbi::readLabelVolume(vdbi_test::dataPath("frogtissue.mhd"));
+    vdbi::RepairOptions options;
+    options.constraints = {{4, 5, 0}, {10, 15, 0}, {6, 3, 12}};
+    const auto refined = repair(*frog, options);
+    const auto report = vdbi_test::checkManifold(refined);
+    EXPECT_TRUE(report.ok()) << report.summary();
+    EXPECT_EQ(touchingPoints(refined, options.constraints), 0u);
+    const std::size_t faces = vdbi::findCriticalElements(*frog, options).faces.size();
+    std::cout << "frog: " << faces << " A|B faces separated, " << report.pointsChecked
+              << " fine points checked\n";
+    EXPECT_GT(faces, 1000u);
+
+    vdbi::Options all;
+    all.repair.constraints = options.constraints;
+    for (const auto& p : vdbi::extractInterfaces(*frog, all).mesh.patches) {
+        for (const auto& c : options.constraints) {
+            EXPECT_FALSE(p.a == std::min(c.a, c.b) && p.b == std::max(c.a, c.b));
+        }
+    }
+}
 
 // The working reading (ALGORITHM.md §6): after repair with s = 7 (faces N1, edges N2,
 // vertices N3) no label has a critical element on the fine grid, and the closed sets of A
