@@ -1,0 +1,236 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/ReferenceSurface.h>
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vdbi {
+
+namespace {
+
+using Vec3d = openvdb::Vec3d;
+
+/// Outgoing neighbours of every point, one per triangle corner (a closed 1-ring lists every
+/// neighbour exactly once), in CSR form.
+void
+buildNeighbours(std::size_t pointCount, const std::vector<openvdb::Vec3I>& triangles,
+                std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& neighbours)
+{
+    start.assign(pointCount + 1, 0);
+    for (const openvdb::Vec3I& t : triangles) {
+        for (int i = 0; i < 3; ++i) ++start[t[i] + 1];
+    }
+    for (std::size_t i = 1; i <= pointCount; ++i) start[i] += start[i - 1];
+    neighbours.resize(start[pointCount]);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (const openvdb::Vec3I& t : triangles) {
+        for (int i = 0; i < 3; ++i) neighbours[fill[t[i]]++] = t[(i + 1) % 3];
+    }
+}
+
+/// nanoflann's view of the vertex array.
+struct PointCloud
+{
+    const std::vector<Vec3d>* points = nullptr;
+
+    std::size_t kdtree_get_point_count() const { return points->size(); }
+    double kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*points)[i][int(dim)]; }
+    template<class BBox> bool kdtree_get_bbox(BBox&) const { return false; }
+};
+
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
+    nanoflann::L2_Simple_Adaptor<double, PointCloud>, PointCloud, 3, std::uint32_t>;
+
+/// Nearest vertices looked at per query; the closest point is searched on their triangles.
+constexpr std::size_t NEAREST_VERTICES = 4;
+
+} // namespace
+
+
+void
+smoothSurfacePoints(std::vector<Vec3d>& points, const std::vector<Vec3d>& original,
+                    const std::vector<openvdb::Vec3I>& triangles,
+                    const std::vector<std::uint8_t>& fixed, int iterations,
+                    double maxDisplacement)
+{
+    constexpr double LAMBDA = 0.5, MU = -0.53;   // Taubin's pass band pair
+    std::vector<std::uint32_t> start, neighbours;
+    buildNeighbours(points.size(), triangles, start, neighbours);
+    std::vector<std::uint32_t> movable;
+    for (std::uint32_t v = 0; v < points.size(); ++v) {
+        if (!fixed[v] && start[v + 1] > start[v]) movable.push_back(v);
+    }
+    const double max2 = maxDisplacement * maxDisplacement;
+    std::vector<Vec3d> previous;
+    auto step = [&](double factor) {
+        previous = points;
+        for (std::uint32_t v : movable) {
+            Vec3d sum(0.0);
+            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) sum += previous[neighbours[i]];
+            const Vec3d mean = sum / double(start[v + 1] - start[v]);
+            Vec3d p = previous[v] + (mean - previous[v]) * factor;
+            const Vec3d d = p - original[v];
+            const double d2 = d.lengthSqr();
+            if (d2 > max2) p = original[v] + d * (maxDisplacement / std::sqrt(d2));
+            points[v] = p;
+        }
+    };
+    for (int it = 0; it < iterations; ++it) {
+        step(LAMBDA);
+        step(MU);
+    }
+}
+
+
+Vec3d
+closestPointOnTriangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c,
+                       Vec3d& bary)
+{
+    // Voronoi regions of the vertices, then of the edges, else the inside.
+    const Vec3d ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0.0 && d2 <= 0.0) { bary = Vec3d(1, 0, 0); return a; }
+    const Vec3d bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0.0 && d4 <= d3) { bary = Vec3d(0, 1, 0); return b; }
+    const Vec3d cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0.0 && d5 <= d6) { bary = Vec3d(0, 0, 1); return c; }
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        const double v = d1 / (d1 - d3);
+        bary = Vec3d(1.0 - v, v, 0.0);
+        return a + ab * v;
+    }
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        const double w = d2 / (d2 - d6);
+        bary = Vec3d(1.0 - w, 0.0, w);
+        return a + ac * w;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        bary = Vec3d(0.0, 1.0 - w, w);
+        return b + (c - b) * w;
+    }
+    const double sum = va + vb + vc;
+    if (!(sum > 0.0)) {   // degenerate triangle: the nearest of its corners
+        const double da = (p - a).lengthSqr(), db = (p - b).lengthSqr(),
+                     dc = (p - c).lengthSqr();
+        if (da <= db && da <= dc) { bary = Vec3d(1, 0, 0); return a; }
+        if (db <= dc) { bary = Vec3d(0, 1, 0); return b; }
+        bary = Vec3d(0, 0, 1);
+        return c;
+    }
+    const double v = vb / sum, w = vc / sum;
+    bary = Vec3d(1.0 - v - w, v, w);
+    return a + ab * v + ac * w;
+}
+
+
+struct ReferenceSurface::Impl
+{
+    std::vector<Vec3d> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<Vec3d> normals;
+    std::vector<std::uint32_t> triangleStart, vertexTriangles;   // CSR: triangles per vertex
+    PointCloud cloud;
+    std::unique_ptr<KdTree> tree;
+};
+
+
+ReferenceSurface::ReferenceSurface(std::vector<Vec3d> points,
+                                   std::vector<openvdb::Vec3I> triangles)
+    : mImpl(new Impl)
+{
+    Impl& m = *mImpl;
+    m.points = std::move(points);
+    m.triangles = std::move(triangles);
+    const std::size_t n = m.points.size();
+    m.normals.assign(n, Vec3d(0.0));
+    m.triangleStart.assign(n + 1, 0);
+    for (const openvdb::Vec3I& t : m.triangles) {
+        const Vec3d normal = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]);
+        for (int i = 0; i < 3; ++i) {
+            m.normals[t[i]] += normal;
+            ++m.triangleStart[t[i] + 1];
+        }
+    }
+    for (Vec3d& normal : m.normals) {
+        const double len = normal.length();
+        if (len > 0.0) normal /= len;
+    }
+    for (std::size_t i = 1; i <= n; ++i) m.triangleStart[i] += m.triangleStart[i - 1];
+    m.vertexTriangles.resize(m.triangleStart[n]);
+    std::vector<std::uint32_t> fill(m.triangleStart.begin(), m.triangleStart.end() - 1);
+    for (std::uint32_t f = 0; f < m.triangles.size(); ++f) {
+        for (int i = 0; i < 3; ++i) m.vertexTriangles[fill[m.triangles[f][i]]++] = f;
+    }
+    m.cloud.points = &m.points;
+    m.tree.reset(new KdTree(3, m.cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16)));
+}
+
+ReferenceSurface::~ReferenceSurface() = default;
+ReferenceSurface::ReferenceSurface(ReferenceSurface&&) noexcept = default;
+ReferenceSurface& ReferenceSurface::operator=(ReferenceSurface&&) noexcept = default;
+
+const std::vector<Vec3d>& ReferenceSurface::points() const { return mImpl->points; }
+const std::vector<openvdb::Vec3I>& ReferenceSurface::triangles() const { return mImpl->triangles; }
+const std::vector<Vec3d>& ReferenceSurface::vertexNormals() const { return mImpl->normals; }
+
+
+ReferenceSurface::Hit
+ReferenceSurface::closestPoint(const Vec3d& query) const
+{
+    const Impl& m = *mImpl;
+    std::uint32_t nearest[NEAREST_VERTICES];
+    double dist2[NEAREST_VERTICES];
+    const double q[3] = {query[0], query[1], query[2]};
+    const std::size_t found = m.tree->knnSearch(q, NEAREST_VERTICES, nearest, dist2);
+
+    Hit hit;
+    double best = std::numeric_limits<double>::infinity();
+    Vec3d bestBary(1, 0, 0);
+    for (std::size_t k = 0; k < found; ++k) {
+        const std::uint32_t v = nearest[k];
+        for (std::uint32_t i = m.triangleStart[v]; i < m.triangleStart[v + 1]; ++i) {
+            const std::uint32_t f = m.vertexTriangles[i];
+            const openvdb::Vec3I& t = m.triangles[f];
+            Vec3d bary;
+            const Vec3d c = closestPointOnTriangle(query, m.points[t[0]], m.points[t[1]],
+                                                   m.points[t[2]], bary);
+            const double d2 = (c - query).lengthSqr();
+            if (d2 < best || (d2 == best && f < hit.triangle)) {
+                best = d2;
+                hit.point = c;
+                hit.triangle = f;
+                bestBary = bary;
+            }
+        }
+    }
+    if (best == std::numeric_limits<double>::infinity()) {   // isolated vertices only
+        hit.point = found ? m.points[nearest[0]] : query;
+        hit.normal = found ? m.normals[nearest[0]] : Vec3d(0, 0, 1);
+        return hit;
+    }
+    hit.barycentric = bestBary;
+    const openvdb::Vec3I& t = m.triangles[hit.triangle];
+    Vec3d normal = m.normals[t[0]] * bestBary[0] + m.normals[t[1]] * bestBary[1]
+        + m.normals[t[2]] * bestBary[2];
+    const double len = normal.length();
+    if (len > 1e-12) {
+        hit.normal = normal / len;
+    } else {
+        normal = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]);
+        const double l2 = normal.length();
+        hit.normal = l2 > 0.0 ? normal / l2 : Vec3d(0, 0, 1);
+    }
+    return hit;
+}
+
+} // namespace vdbi

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file vdbi/ReferenceSurface.h
+/// @brief The smooth surface a patch is remeshed onto: its extracted staircase smoothed
+/// within a bound, with closest-point queries.
+
+#ifndef VDBI_REFERENCE_SURFACE_HAS_BEEN_INCLUDED
+#define VDBI_REFERENCE_SURFACE_HAS_BEEN_INCLUDED
+
+#include <openvdb/Types.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace vdbi {
+
+/// @brief Smooths a triangle surface in place, with a bound on how far any point moves.
+/// @details Taubin smoothing with the uniform (umbrella) Laplacian: per iteration a shrinking
+/// step and an inflating step, so the volume stays; after every step a point farther than
+/// @a maxDisplacement from @a original is pulled back onto that sphere. This removes the voxel
+/// staircase (steps of one voxel) while thin structures keep their thickness: nothing moves
+/// more than the bound (ALGORITHM.md §5). Fixed points (the patch boundary, already on the
+/// smoothed feature curves) do not move.
+/// @param points           [in,out] start and result positions
+/// @param original         positions the bound refers to (the extracted surface)
+/// @param triangles        the triangles; a free point must be interior (a closed 1-ring)
+/// @param fixed            one flag per point: nonzero keeps the point where it is
+/// @param iterations       number of Taubin iterations (two Laplacian steps each)
+/// @param maxDisplacement  the bound, in world units
+void smoothSurfacePoints(std::vector<openvdb::Vec3d>& points,
+                         const std::vector<openvdb::Vec3d>& original,
+                         const std::vector<openvdb::Vec3I>& triangles,
+                         const std::vector<std::uint8_t>& fixed, int iterations,
+                         double maxDisplacement);
+
+/// @brief A triangle surface with closest-point queries.
+/// @details A KD-tree (nanoflann) over the vertices finds the nearest few vertices; the
+/// closest point is then computed exactly on the triangles around them. That is the exact
+/// closest point whenever it lies in a triangle touching one of those vertices, which holds
+/// for the well-shaped, dense reference surfaces built from extracted patches.
+class ReferenceSurface
+{
+public:
+    struct Hit
+    {
+        openvdb::Vec3d point;       ///< closest point found
+        openvdb::Vec3d normal;      ///< unit normal there, interpolated from the vertices
+        std::uint32_t triangle = 0; ///< the triangle it lies in
+        openvdb::Vec3d barycentric; ///< of the point in that triangle
+    };
+
+    /// @param points     vertex positions
+    /// @param triangles  counter-clockwise triangles (the normal follows the orientation)
+    ReferenceSurface(std::vector<openvdb::Vec3d> points,
+                     std::vector<openvdb::Vec3I> triangles);
+    ~ReferenceSurface();
+    ReferenceSurface(ReferenceSurface&&) noexcept;
+    ReferenceSurface& operator=(ReferenceSurface&&) noexcept;
+    ReferenceSurface(const ReferenceSurface&) = delete;
+    ReferenceSurface& operator=(const ReferenceSurface&) = delete;
+
+    /// The closest point of the surface to @a query.
+    /// @pre the surface has at least one triangle
+    Hit closestPoint(const openvdb::Vec3d& query) const;
+
+    const std::vector<openvdb::Vec3d>& points() const;
+    const std::vector<openvdb::Vec3I>& triangles() const;
+    /// Unit area-weighted vertex normals.
+    const std::vector<openvdb::Vec3d>& vertexNormals() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+};
+
+/// @brief The point of triangle (a, b, c) closest to @a p, with its barycentric coordinates.
+openvdb::Vec3d closestPointOnTriangle(const openvdb::Vec3d& p, const openvdb::Vec3d& a,
+                                      const openvdb::Vec3d& b, const openvdb::Vec3d& c,
+                                      openvdb::Vec3d& barycentric);
+
+} // namespace vdbi
+
+#endif // VDBI_REFERENCE_SURFACE_HAS_BEEN_INCLUDED
