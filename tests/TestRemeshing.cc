@@ -489,3 +489,28 @@ TEST_F(TestRemeshing, testZeroIterations)
     const auto out = remesh(raw, 2.0, true, 0);
     EXPECT_TRUE(isConsistentAndManifold(out));
 }
+
+// The pipeline entry point remeshes when asked: edge length 0 means one voxel, the stage is
+// timed, the statistics count the remeshed mesh.
+TEST_F(TestRemeshing, testPipeline)
+{
+    auto grid = nestedBalls(3.5, 6.0);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    vdbi::Options options;
+    options.remesh = true;
+    const vdbi::Result result = vdbi::extractInterfaces(*grid, options);
+    EXPECT_TRUE(isConsistentAndManifold(result.mesh));
+    EXPECT_TRUE(result.mesh.pointKeys.empty());
+    EXPECT_EQ(result.statistics.triangles, result.mesh.triangles.size());
+    EXPECT_EQ(result.statistics.vertices, result.mesh.points.size());
+    ASSERT_FALSE(result.statistics.stageSeconds.empty());
+    EXPECT_EQ(result.statistics.stageSeconds.back().first, "remeshing");
+    const Quality q = measureQuality(result.mesh, 0.5);
+    EXPECT_GT(q.inRange, 0.95);
+
+    const vdbi::Result raw = vdbi::extractInterfaces(*grid);
+    options.edgeLength = 1.0;   // two voxels
+    const vdbi::Result coarse = vdbi::extractInterfaces(*grid, options);
+    EXPECT_TRUE(isConsistentAndManifold(coarse.mesh));
+    EXPECT_LT(coarse.mesh.triangles.size(), raw.mesh.triangles.size() / 2);
+}

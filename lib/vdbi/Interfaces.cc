@@ -6,9 +6,11 @@
 #include <vdbi/Fattening.h>
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/LabelGrid.h>
+#include <vdbi/Remeshing.h>
 
 #include <openvdb/Exceptions.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -107,6 +109,18 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     extraction.interrupter = options.repair.interrupter;
     result.mesh = extractInterfacePatches(refined, extraction);
     clock.lap("extraction");
+
+    if (options.remesh) {
+        RemeshOptions remeshing;
+        const openvdb::Vec3d voxel = grid.voxelSize();
+        remeshing.edgeLength = options.edgeLength > 0.0 ? options.edgeLength : voxel[0];
+        remeshing.iterations = options.iterations;
+        remeshing.voxelSize = std::min({voxel[0], voxel[1], voxel[2]});
+        remeshing.threaded = options.repair.threaded;
+        remeshing.interrupter = options.repair.interrupter;
+        result.mesh = remeshPatches(result.mesh, remeshing);
+        clock.lap("remeshing");
+    }
 
     stats.patches = result.mesh.patches.size();
     stats.triangles = result.mesh.triangles.size();
