@@ -187,8 +187,8 @@ TEST_F(TestExtractionProperties, testHandMadeGridsExactly)
     // Where nothing is critical the output is the plain face extraction.
     for (const auto& c : vdbi_test::handMadeCases()) {
         if (c.criticalEdges + c.criticalVertices > 0) continue;
-        EXPECT_EQ(vdbi_test::compareWithPlainFaces(vdbi::extractInterfaces(*c.grid).mesh, *c.grid), "")
-            << c.name;
+        const vdbi::InterfaceMesh mesh = vdbi::extractInterfaces(*c.grid).mesh;
+        EXPECT_EQ(vdbi_test::compareWithPlainFaces(mesh, *c.grid), "") << c.name;
     }
     // The repaired checkerboard and the tile grid have no simple hand count; they must still
     // pass every check.
@@ -235,7 +235,8 @@ TEST_F(TestExtractionProperties, testRandomVolumes)
         std::size_t triangles = 0, failing = 0;
         std::string first;
         for (std::uint64_t seed = 5000; seed < 5100; ++seed) {
-            const auto grid = vdbi_test::randomVolume(g, seed, 3 + int(seed % 7), 2 + int(seed % 5));
+            const auto grid =
+                vdbi_test::randomVolume(g, seed, 3 + int(seed % 7), 2 + int(seed % 5));
             const PipelineRun r = run(*grid);
             const auto report = vdbi_test::checkMesh(r.mesh);
             triangles += r.mesh.triangleCount();
@@ -272,7 +273,8 @@ TEST_F(TestExtractionProperties, testMengerSpongeIsPlainFaceExtraction)
     EXPECT_DOUBLE_EQ(report.labels.at(label).volume, double(grid->activeVoxelCount()));
     EXPECT_EQ(verify(run(*grid), report), "");
     std::cout << "      menger: " << faces.begin()->second << " faces, Euler characteristic "
-              << report.labels.at(label).euler << " (genus " << 1 - report.labels.at(label).euler / 2
+              << report.labels.at(label).euler << " (genus "
+              << 1 - report.labels.at(label).euler / 2
               << "), solid " << solid << std::endl;
 }
 

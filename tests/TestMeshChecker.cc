@@ -69,7 +69,8 @@ TEST_F(TestMeshChecker, testPlainMeshesOfWellComposedGrids)
         EXPECT_TRUE(report.ok()) << report.summary();
         EXPECT_EQ(report.tJunctions, 0u);
     }
-    const auto cube = vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::singleVoxel()));
+    const auto cube =
+        vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::singleVoxel()));
     EXPECT_EQ(cube.triangles, 12u);
     EXPECT_EQ(cube.points, 8u);
     EXPECT_EQ(cube.labels.at(1).euler, 2);
@@ -82,7 +83,8 @@ TEST_F(TestMeshChecker, testPlainMeshesOfWellComposedGrids)
     for (const auto& p : t.patchReports) EXPECT_GT(p.boundaryEdges, 0u);
     EXPECT_EQ(t.sum(&vdbi_test::PatchReport::unmatchedBoundaryEdges), 0u);
     // Nested surfaces: volumes 98 and 27, the background minus both; Euler 2, 4, 2.
-    const auto shell = vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::hollowShellFilled()));
+    const auto shell =
+        vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::hollowShellFilled()));
     EXPECT_DOUBLE_EQ(shell.labels.at(1).volume, 98.0);
     EXPECT_DOUBLE_EQ(shell.labels.at(2).volume, 27.0);
     EXPECT_DOUBLE_EQ(shell.labels.at(0).volume, -125.0);
@@ -187,7 +189,8 @@ TEST_F(TestMeshChecker, testDetectsNonManifoldEdge)
     EXPECT_EQ(report.patchReports[0].nonManifoldEdges, 1u);
     EXPECT_GT(report.labels.at(1).openEdges, 0u);
     // The plain extraction of two voxels sharing an edge has 4 triangles at that edge.
-    const auto edge = vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::twoVoxelsSharingEdge()));
+    const auto edge =
+        vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::twoVoxelsSharingEdge()));
     EXPECT_FALSE(edge.ok());
     EXPECT_EQ(edge.patchReports[0].nonManifoldEdges, 1u);
 }
@@ -201,7 +204,8 @@ TEST_F(TestMeshChecker, testDetectsTJunction)
     const auto t = mesh.triangles[0];
     const auto& k0 = mesh.pointKeys[t[0]];
     const auto& k1 = mesh.pointKeys[t[1]];
-    const unsigned mid = addPoint(mesh, {(k0[0] + k1[0]) / 2, (k0[1] + k1[1]) / 2, (k0[2] + k1[2]) / 2});
+    const unsigned mid =
+        addPoint(mesh, {(k0[0] + k1[0]) / 2, (k0[1] + k1[1]) / 2, (k0[2] + k1[2]) / 2});
     mesh.triangles[0] = openvdb::Vec3I(t[0], mid, t[2]);
     insertTriangle(mesh, 0, openvdb::Vec3I(mid, t[1], t[2]));
     const auto report = vdbi_test::checkMesh(mesh);
@@ -214,7 +218,8 @@ TEST_F(TestMeshChecker, testDetectsTwoClosedFansAtVertex)
 {
     // Two cubes sharing only a corner: every edge is fine, but the shared vertex has two
     // closed fans (the pinch that §2's antipodal rule exists for).
-    const auto report = vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::twoVoxelsSharingVertex()));
+    const auto report =
+        vdbi_test::checkMesh(vdbi_test::plainInterfaceMesh(*vdbi_test::twoVoxelsSharingVertex()));
     EXPECT_FALSE(report.ok());
     EXPECT_EQ(report.patchReports[0].nonManifoldEdges, 0u);
     EXPECT_EQ(report.patchReports[0].closedFanPlusMore, 1u);

@@ -119,7 +119,8 @@ TEST_F(TestRefinedChecker, testLinkCycleTestAgreesWithPatternRules)
         const auto mask = std::uint8_t(m);
         EXPECT_EQ(vdbi_test::isManifoldMask(mask), !patternRulesSayCritical(mask)) << "mask " << m;
         EXPECT_EQ(vdbi_test::isManifoldMask(mask), vdbi_test::isManifoldMask(std::uint8_t(~m)));
-        EXPECT_EQ(vdbi_test::boundaryEulerTimes4(mask), vdbi_test::boundaryEulerTimes4(std::uint8_t(~m)));
+        EXPECT_EQ(vdbi_test::boundaryEulerTimes4(mask),
+                  vdbi_test::boundaryEulerTimes4(std::uint8_t(~m)));
         nonManifold += vdbi_test::isManifoldMask(mask) ? 0 : 1;
     }
     // Both definitions reject exactly half of the masks (64 complementary pairs), so neither
@@ -212,7 +213,8 @@ TEST_F(TestRefinedChecker, testCheckerFailsWithoutFattening)
         EXPECT_EQ(r.relabelled, 0u);
     }
     // The failures are where they must be: the shared vertex (5,5,5), labels 0 and 1.
-    const auto r = vdbi_test::referenceFattening(*vdbi_test::twoVoxelsSharingVertex(), params(5, 0, 0));
+    const auto r =
+        vdbi_test::referenceFattening(*vdbi_test::twoVoxelsSharingVertex(), params(5, 0, 0));
     const auto report = r.check();
     ASSERT_EQ(report.failures.size(), 2u);
     EXPECT_EQ(report.failures[0].point, Coord(5, 5, 5));
@@ -296,7 +298,9 @@ TEST_F(TestRefinedChecker, testArbitraryFineLabelFunction)
     EXPECT_EQ(bad.failureCount, 4u) << bad.summary();
     EXPECT_EQ(bad.pointsChecked, 125u);
     auto cube = [](const Coord& f) -> Label {
-        return (f.x() >= 0 && f.y() >= 0 && f.z() >= 0 && f.x() < 3 && f.y() < 3 && f.z() < 3) ? -4 : 0;
+        const bool inside = f.x() >= 0 && f.y() >= 0 && f.z() >= 0 && f.x() < 3 && f.y() < 3
+            && f.z() < 3;
+        return inside ? -4 : 0;
     };
     const auto good = vdbi_test::checkManifold(vdbi_test::FineLabelFn(cube), *points);
     EXPECT_TRUE(good.ok()) << good.summary();

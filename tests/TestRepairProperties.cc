@@ -336,7 +336,9 @@ TEST_F(TestRepairProperties, testAllBlockClasses)
         sweep.add(blockName(c.labels), run, true);
         const std::string diff =
             compareElements(run.elements, vdbi_test::referenceCriticalElements(*grid));
-        if (!diff.empty() && elementMismatches++ == 0) firstMismatch = blockName(c.labels) + ": " + diff;
+        if (!diff.empty() && elementMismatches++ == 0) {
+            firstMismatch = blockName(c.labels) + ": " + diff;
+        }
     });
     EXPECT_EQ(sweep.volumes, 23982u);
     EXPECT_EQ(sweep.failingVolumes, 0u) << sweep.firstFailure;
@@ -385,8 +387,8 @@ TEST_F(TestRepairProperties, testAll223Volumes)
 TEST_F(TestRepairProperties, testRandomVolumes)
 {
     // §6: thousands of random volumes (1,000 from each of six generators; labels straddle 0
-    // for a third of the seeds) are repaired, and every relabelled subvoxel lies within 2/5 voxel of an
-    // input voxel of its new label.
+    // for a third of the seeds) are repaired, and every relabelled subvoxel lies within 2/5
+    // voxel of an input voxel of its new label.
     const auto t0 = std::chrono::steady_clock::now();
     for (vdbi_test::Generator g : vdbi_test::allGenerators()) {
         Sweep sweep;
@@ -439,7 +441,8 @@ TEST_F(TestRepairProperties, testPriorityOrders)
     // library follows the given order exactly like the reference does.
     for (vdbi_test::Generator g : vdbi_test::allGenerators()) {
         for (std::uint64_t seed = 2000; seed < 2060; ++seed) {
-            const auto grid = vdbi_test::randomVolume(g, seed, 4 + int(seed % 5), 3 + int(seed % 3));
+            const auto grid =
+                vdbi_test::randomVolume(g, seed, 4 + int(seed % 5), 3 + int(seed % 3));
             SCOPED_TRACE(vdbi_test::generatorName(g) + " seed " + std::to_string(seed));
             const std::vector<Label> labels = vdbi::collectLabels(*grid, false);
             const vdbi::LabelPriority orders[] = {vdbi::LabelPriority(), reversedPriority(*grid),

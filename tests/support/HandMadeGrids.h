@@ -21,8 +21,8 @@
 /// | hollowShell            | 0           | 0              | 0        | (0,1): 150 + 54 = 204   |
 /// | hollowShellFilled      | 0           | 0              | 0        | (0,1): 150, (1,2): 54   |
 /// | torusRing              | 0           | 0              | 0        | (0,1): 32               |
-/// | tJunction3             | 0           | 0              | 0        | (0,1) 6, (0,2) 6, (0,3) 12, (1,2) 2, (1,3) 2, (2,3) 2 |
-/// | corner4                | 0           | 0              | 0        | (0,L) 6 for L=1..4; (1,2) (1,4) (2,3) (3,4): 2 each |
+/// | tJunction3             | 0           | 0              | 0        | see below (30 faces)    |
+/// | corner4                | 0           | 0              | 0        | see below (32 faces)    |
 /// | activeTileGrid         | 1 (dom. 0)  | 2 (dom. 0)     | 0        | (0,3) 384, (0,5) 6      |
 ///
 /// Each builder's comment derives its row.
@@ -47,7 +47,8 @@ namespace vdbi_test {
 ///                array is grid voxel origin + (x,y,z). Labels equal to @a background are not
 ///                stored; all others become active voxels.
 /// @throw openvdb::ValueError if labels.size() != nx*ny*nz
-openvdb::Int32Grid::Ptr gridFromDense(int nx, int ny, int nz, const std::vector<vdbi::Label>& labels,
+openvdb::Int32Grid::Ptr gridFromDense(int nx, int ny, int nz,
+                                      const std::vector<vdbi::Label>& labels,
                                       const openvdb::Coord& origin = openvdb::Coord(0),
                                       vdbi::Label background = 0);
 

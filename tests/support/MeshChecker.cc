@@ -377,7 +377,8 @@ checkMesh(const vdbi::InterfaceMesh& mesh, bool useKeys)
     // Per label: the union of its patches, flipped where it is the b side, must be closed.
     std::map<Label, std::vector<Tri>> byLabel;
     for (const auto& patch : mesh.patches) {
-        for (std::size_t t = patch.firstTriangle; t < patch.firstTriangle + patch.triangleCount; ++t) {
+        const std::size_t end = patch.firstTriangle + patch.triangleCount;
+        for (std::size_t t = patch.firstTriangle; t < end; ++t) {
             const Tri& x = tris[t];
             byLabel[patch.a].push_back(x);
             byLabel[patch.b].push_back({x[0], x[2], x[1]});
@@ -584,7 +585,8 @@ compareWithPlainFaces(const vdbi::InterfaceMesh& mesh, const openvdb::Int32Grid&
     });
     std::ostringstream os;
     for (const auto& patch : mesh.patches) {
-        for (std::size_t t = patch.firstTriangle; t < patch.firstTriangle + patch.triangleCount; ++t) {
+        const std::size_t end = patch.firstTriangle + patch.triangleCount;
+        for (std::size_t t = patch.firstTriangle; t < end; ++t) {
             vdbi::VertexKey k[3];
             for (int i = 0; i < 3; ++i) k[i] = mesh.pointKeys[mesh.triangles[t][i]];
             int axis = -1;
@@ -661,9 +663,9 @@ voxelSetEuler(const openvdb::Int32Grid& grid, Label label)
             for (int dz = 0; dz < 3; ++dz) {
                 for (int dy = 0; dy < 3; ++dy) {
                     for (int dx = 0; dx < 3; ++dx) {
-                        if (!cells.insert(pack(2 * c.x() + dx, 2 * c.y() + dy, 2 * c.z() + dz)).second) {
-                            continue;
-                        }
+                        const std::uint64_t cell = pack(2 * c.x() + dx, 2 * c.y() + dy,
+                                                        2 * c.z() + dz);
+                        if (!cells.insert(cell).second) continue;
                         const int dim = (dx & 1) + (dy & 1) + (dz & 1);
                         euler += (dim % 2 == 0) ? 1 : -1;
                     }

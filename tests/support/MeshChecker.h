@@ -30,7 +30,7 @@ struct PatchReport
     std::size_t triangles = 0;
     std::size_t degenerateTriangles = 0;    ///< two equal vertices
     std::size_t duplicateTriangles = 0;     ///< the same vertex set as an earlier triangle
-    std::size_t duplicateDirectedEdges = 0; ///< a directed edge used twice: inconsistent orientation
+    std::size_t duplicateDirectedEdges = 0; ///< a directed edge used twice: orientation flips
     std::size_t nonManifoldEdges = 0;       ///< undirected edges in more than 2 triangles
     std::size_t boundaryEdges = 0;          ///< undirected edges in exactly 1 triangle
     std::size_t unmatchedBoundaryEdges = 0; ///< boundary edges that bound no other patch

@@ -215,7 +215,9 @@ smoothField(Rng& rng, Box& box, const std::vector<Label>& pool)
         for (int y = 0; y < n; ++y) {
             for (int x = 0; x < n; ++x) {
                 double f = 0;
-                for (const Wave& q : w) f += q.amp * std::sin(q.kx * x + q.ky * y + q.kz * z + q.phase);
+                for (const Wave& q : w) {
+                    f += q.amp * std::sin(q.kx * x + q.ky * y + q.kz * z + q.phase);
+                }
                 // Most of the mass of a sum of waves is near 0: stretch before banding.
                 const double t = std::min(0.999999, std::max(0.0, 0.5 + f / total));
                 box.at(x, y, z) = pool[std::size_t(t * bands)];
