@@ -184,6 +184,63 @@ const std::vector<openvdb::Vec3I>& ReferenceSurface::triangles() const { return 
 const std::vector<Vec3d>& ReferenceSurface::vertexNormals() const { return mImpl->normals; }
 
 
+namespace {
+
+/// Closest point over the triangles around the given vertices; each triangle is tested once.
+template<typename Impl>
+bool
+searchAround(const Impl& m, const Vec3d& query, const std::uint32_t* vertices, std::size_t count,
+             ReferenceSurface::Hit& hit, Vec3d& bary, double& best)
+{
+    constexpr std::size_t MAX_SEEN = 64;
+    std::uint32_t seen[MAX_SEEN];
+    std::size_t seenCount = 0;
+    bool found = false;
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t v = vertices[k];
+        for (std::uint32_t i = m.triangleStart[v]; i < m.triangleStart[v + 1]; ++i) {
+            const std::uint32_t f = m.vertexTriangles[i];
+            if (std::find(seen, seen + seenCount, f) != seen + seenCount) continue;
+            if (seenCount < MAX_SEEN) seen[seenCount++] = f;
+            const openvdb::Vec3I& t = m.triangles[f];
+            Vec3d b;
+            const Vec3d c = closestPointOnTriangle(query, m.points[t[0]], m.points[t[1]],
+                                                   m.points[t[2]], b);
+            const double d2 = (c - query).lengthSqr();
+            if (d2 < best || (d2 == best && f < hit.triangle)) {
+                best = d2;
+                hit.point = c;
+                hit.triangle = f;
+                bary = b;
+                found = true;
+            }
+        }
+    }
+    return found;
+}
+
+} // namespace
+
+
+void
+ReferenceSurface::finishHit(Hit& hit, const Vec3d& bary) const
+{
+    const Impl& m = *mImpl;
+    hit.barycentric = bary;
+    const openvdb::Vec3I& t = m.triangles[hit.triangle];
+    Vec3d normal = m.normals[t[0]] * bary[0] + m.normals[t[1]] * bary[1]
+        + m.normals[t[2]] * bary[2];
+    const double len = normal.length();
+    if (len > 1e-12) {
+        hit.normal = normal / len;
+    } else {
+        normal = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]);
+        const double l2 = normal.length();
+        hit.normal = l2 > 0.0 ? normal / l2 : Vec3d(0, 0, 1);
+    }
+}
+
+
 ReferenceSurface::Hit
 ReferenceSurface::closestPoint(const Vec3d& query) const
 {
@@ -194,43 +251,49 @@ ReferenceSurface::closestPoint(const Vec3d& query) const
     const std::size_t found = m.tree->knnSearch(q, NEAREST_VERTICES, nearest, dist2);
 
     Hit hit;
+    Vec3d bary(1, 0, 0);
     double best = std::numeric_limits<double>::infinity();
-    Vec3d bestBary(1, 0, 0);
-    for (std::size_t k = 0; k < found; ++k) {
-        const std::uint32_t v = nearest[k];
-        for (std::uint32_t i = m.triangleStart[v]; i < m.triangleStart[v + 1]; ++i) {
-            const std::uint32_t f = m.vertexTriangles[i];
-            const openvdb::Vec3I& t = m.triangles[f];
-            Vec3d bary;
-            const Vec3d c = closestPointOnTriangle(query, m.points[t[0]], m.points[t[1]],
-                                                   m.points[t[2]], bary);
-            const double d2 = (c - query).lengthSqr();
-            if (d2 < best || (d2 == best && f < hit.triangle)) {
-                best = d2;
-                hit.point = c;
-                hit.triangle = f;
-                bestBary = bary;
-            }
-        }
-    }
-    if (best == std::numeric_limits<double>::infinity()) {   // isolated vertices only
+    if (!searchAround(m, query, nearest, found, hit, bary, best)) {   // isolated vertices only
         hit.point = found ? m.points[nearest[0]] : query;
         hit.normal = found ? m.normals[nearest[0]] : Vec3d(0, 0, 1);
         return hit;
     }
-    hit.barycentric = bestBary;
-    const openvdb::Vec3I& t = m.triangles[hit.triangle];
-    Vec3d normal = m.normals[t[0]] * bestBary[0] + m.normals[t[1]] * bestBary[1]
-        + m.normals[t[2]] * bestBary[2];
-    const double len = normal.length();
-    if (len > 1e-12) {
-        hit.normal = normal / len;
-    } else {
-        normal = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]);
-        const double l2 = normal.length();
-        hit.normal = l2 > 0.0 ? normal / l2 : Vec3d(0, 0, 1);
-    }
+    finishHit(hit, bary);
     return hit;
+}
+
+
+ReferenceSurface::Hit
+ReferenceSurface::closestPointNear(const Vec3d& query, std::uint32_t start) const
+{
+    const Impl& m = *mImpl;
+    if (start >= m.triangles.size()) return closestPoint(query);
+    Hit hit;
+    hit.triangle = start;
+    Vec3d bary(1, 0, 0);
+    for (int step = 0; step < 8; ++step) {
+        const std::uint32_t current = hit.triangle;
+        const openvdb::Vec3I& t = m.triangles[current];
+        const std::uint32_t corners[3] = {t[0], t[1], t[2]};
+        double best = std::numeric_limits<double>::infinity();
+        searchAround(m, query, corners, 3, hit, bary, best);
+        if (hit.triangle == current) {
+            finishHit(hit, bary);
+            return hit;
+        }
+    }
+    return closestPoint(query);
+}
+
+
+std::uint32_t
+ReferenceSurface::triangleAt(std::uint32_t v) const
+{
+    const Impl& m = *mImpl;
+    if (v >= m.points.size() || m.triangleStart[v] == m.triangleStart[v + 1]) {
+        return std::uint32_t(-1);
+    }
+    return m.vertexTriangles[m.triangleStart[v]];
 }
 
 } // namespace vdbi

@@ -62,6 +62,14 @@ public:
     /// The closest point of the surface to @a query.
     /// @pre the surface has at least one triangle
     Hit closestPoint(const openvdb::Vec3d& query) const;
+    /// @brief The closest point to @a query found by walking from triangle @a start: the
+    /// triangles around its corners are searched, then around the best one, until the best
+    /// stays; after a few steps without settling, the KD-tree search takes over.
+    /// @details For a point that moved a little since its last query (remeshing rounds) this
+    /// finds the same point as closestPoint() without a tree search.
+    Hit closestPointNear(const openvdb::Vec3d& query, std::uint32_t start) const;
+    /// A triangle at vertex @a v (for closestPointNear()).
+    std::uint32_t triangleAt(std::uint32_t v) const;
 
     const std::vector<openvdb::Vec3d>& points() const;
     const std::vector<openvdb::Vec3I>& triangles() const;
@@ -69,6 +77,8 @@ public:
     const std::vector<openvdb::Vec3d>& vertexNormals() const;
 
 private:
+    void finishHit(Hit& hit, const openvdb::Vec3d& barycentric) const;
+
     struct Impl;
     std::unique_ptr<Impl> mImpl;
 };

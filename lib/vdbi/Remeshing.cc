@@ -115,6 +115,17 @@ private:
     const Point& refNormal(VertexHandle v) const { return mMesh.property(mRefNormal, v); }
     int targetValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 4 : 6; }
     int minValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 2 : 3; }
+    int valence(VertexHandle v) const
+    {
+        return mValence.empty() ? int(mMesh.valence(v)) : mValence[v.idx()];
+    }
+    void countValences()
+    {
+        mValence.assign(mMesh.n_vertices(), 0);
+        for (const VertexHandle v : mMesh.vertices()) {
+            if (!mMesh.status(v).deleted()) mValence[v.idx()] = int(mMesh.valence(v));
+        }
+    }
     /// Smallest cosine between the reference normal at @a v and at its neighbours.
     double flatness(VertexHandle v) const
     {
@@ -155,6 +166,8 @@ private:
     /// vertex where the normal is within creaseCos of it, so no vertex drifts off a crease,
     /// corner or tip over many small moves.
     OpenMesh::VPropHandleT<Point> mAnchor;
+    /// "v:reftri": the reference triangle of the last projection, where the next starts.
+    OpenMesh::VPropHandleT<std::uint32_t> mRefTriangle;
     std::vector<std::uint32_t> mRawPoints;            ///< raw point of every initial vertex
     std::vector<openvdb::Vec3I> mTriangles;           ///< raw triangles, local indices
     /// Curves bounding this patch, with the direction the patch boundary runs along them.
@@ -162,7 +175,8 @@ private:
     std::vector<std::pair<std::uint32_t, std::uint32_t>> mExpectedBoundary;   ///< sample pairs
     std::unique_ptr<ReferenceSurface> mReference;
     std::vector<Point> mPrevious;                     ///< positions before relaxation
-    std::vector<int> mValence;                        ///< valences during equalizeValences()
+    /// Valence of every vertex, kept up to date during the collapse and flip passes.
+    std::vector<int> mValence;
 };
 
 
@@ -191,6 +205,7 @@ PatchRemesher::addInnerVertex(const Point& p, const Point& normal)
     mMesh.property(mSample, v) = -1;
     mMesh.property(mRefNormal, v) = normal;
     mMesh.property(mAnchor, v) = normal;
+    mMesh.property(mRefTriangle, v) = std::uint32_t(-1);
     return v;
 }
 
@@ -204,6 +219,7 @@ PatchRemesher::splitEdge(EdgeHandle e)
     const double len = normal.norm();
     if (len > 0.0) normal /= len;
     const VertexHandle m = addInnerVertex((mMesh.point(a) + mMesh.point(b)) * 0.5, normal);
+    mMesh.property(mRefTriangle, m) = mMesh.property(mRefTriangle, a);
     mMesh.split(e, m);
     return m;
 }
@@ -237,6 +253,7 @@ PatchRemesher::buildMesh()
     mMesh.add_property(mSample, "v:sample");
     mMesh.add_property(mRefNormal, "v:refnormal");
     mMesh.add_property(mAnchor, "v:anchor");
+    mMesh.add_property(mRefTriangle, "v:reftri");
     mMesh.reserve(mRawPoints.size() * 2, mRawPoints.size() * 6, mTriangles.size() * 2);
     for (std::uint32_t p : mRawPoints) {
         const VertexHandle v = addInnerVertex(toPoint(mRaw.points[p]), Point(0, 0, 0));
@@ -293,6 +310,7 @@ PatchRemesher::buildReference()
         mMesh.set_point(v, toPoint(points[i]));
         mMesh.property(mRefNormal, v) = toPoint(normals[i]);
         mMesh.property(mAnchor, v) = toPoint(normals[i]);
+        mMesh.property(mRefTriangle, v) = mReference->triangleAt(std::uint32_t(i));
     }
 }
 
@@ -448,12 +466,14 @@ PatchRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& posit
     if (!mMesh.is_collapse_ok(h)) return false;   // link condition: stays a 2-manifold
     // Keep every vertex at valence >= 3 inside (2 on the boundary): no degenerate fans, and a
     // closed component stops at a tetrahedron.
-    if (int(mMesh.valence(vl)) - 1 < minValence(vl)) return false;
-    if (int(mMesh.valence(vr)) - 1 < minValence(vr)) return false;
-    if (int(mMesh.valence(v1) + mMesh.valence(v0)) - 4 < minValence(v1)) return false;
+    if (valence(vl) - 1 < minValence(vl)) return false;
+    if (valence(vr) - 1 < minValence(vr)) return false;
+    if (valence(v1) + valence(v0) - 4 < minValence(v1)) return false;
 
     // No triangle may fold over, and the points that go must stay close to the new surface.
-    double near0 = std::numeric_limits<double>::infinity(), near1 = moves ? near0 : 0.0;
+    // The kept vertex lies on every new face: a point that close passes without a search.
+    const double limit2 = mSettings.deviation2;
+    double near0 = (p0 - position).sqrnorm(), near1 = moves ? (p1 - position).sqrnorm() : 0.0;
     for (const VertexHandle centre : {v0, v1}) {
         if (centre == v1 && !moves) break;
         for (const FaceHandle f : mMesh.vf_range(centre)) {
@@ -466,20 +486,21 @@ PatchRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& posit
             for (int k = 0; k < 3; ++k) {
                 p[k] = (c[k] == v0 || c[k] == v1) ? position : mMesh.point(c[k]);
             }
-            near0 = std::min(near0, distance2(p0, p[0], p[1], p[2]));
-            if (moves) near1 = std::min(near1, distance2(p1, p[0], p[1], p[2]));
+            if (near0 > limit2) near0 = std::min(near0, distance2(p0, p[0], p[1], p[2]));
+            if (near1 > limit2) near1 = std::min(near1, distance2(p1, p[0], p[1], p[2]));
             if (!agrees(f)) continue;   // was folded already
             for (int k = 0; k < 3; ++k) if (c[k] == v0) c[k] = v1;
             if (!agrees(p[0], p[1], p[2], c[0], c[1], c[2])) return false;
         }
     }
-    return std::max(near0, near1) <= mSettings.deviation2;
+    return std::max(near0, near1) <= limit2;
 }
 
 
 void
 PatchRemesher::collapseShortEdges()
 {
+    countValences();
     const std::size_t count = mMesh.n_edges();
     for (std::size_t i = 0; i < count; ++i) {
         const EdgeHandle e{int(i)};
@@ -493,16 +514,23 @@ PatchRemesher::collapseShortEdges()
         HalfedgeHandle first = h, second = mMesh.opposite_halfedge_handle(h);
         const double fa = flatness(a), fb = flatness(b);
         const bool flat = fa > mSettings.flatCos && fb > mSettings.flatCos;
-        if (flat ? mMesh.valence(b) < mMesh.valence(a) : fb > fa) std::swap(first, second);
+        if (flat ? valence(b) < valence(a) : fb > fa) std::swap(first, second);
         for (const HalfedgeHandle g : {first, second}) {
             Point position;
             if (!isCollapseAllowed(g, flat, position)) continue;
-            const VertexHandle kept = mMesh.to_vertex_handle(g);
+            const VertexHandle gone = mMesh.from_vertex_handle(g), kept = mMesh.to_vertex_handle(g);
+            const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(g));
+            const VertexHandle vr = mMesh.to_vertex_handle(
+                mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(g)));
+            mValence[kept.idx()] += mValence[gone.idx()] - 4;   // an inner edge: two faces go
+            --mValence[vl.idx()];
+            --mValence[vr.idx()];
             mMesh.collapse(g);
             mMesh.set_point(kept, position);
             break;
         }
     }
+    mValence.clear();
 }
 
 
@@ -515,8 +543,7 @@ PatchRemesher::isFlipAllowed(EdgeHandle e)
     const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
     const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
     if (isLocked(c) && isLocked(d)) return false;
-    if (int(mMesh.valence(v0)) - 1 < minValence(v0)) return false;
-    if (int(mMesh.valence(v1)) - 1 < minValence(v1)) return false;
+    if (valence(v0) - 1 < minValence(v0) || valence(v1) - 1 < minValence(v1)) return false;
     // Faces (v0, v1, c), (v1, v0, d) become (v0, d, c), (d, v1, c): neither may fold over.
     const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                 &pd = mMesh.point(d);
@@ -524,7 +551,9 @@ PatchRemesher::isFlipAllowed(EdgeHandle e)
     const int after = int(agrees(p0, pd, pc, v0, d, c)) + int(agrees(pd, p1, pc, d, v1, c));
     if (after < before || (before == 2 && after < 2)) return false;
     // Across a ridge or valley the other diagonal cuts it off: keep the two surfaces close.
+    // Each diagonal's midpoint is on its own faces, so close midpoints need no search.
     const Point oldMid = (p0 + p1) * 0.5, newMid = (pc + pd) * 0.5;
+    if ((oldMid - newMid).sqrnorm() <= mSettings.deviation2) return true;
     const double oldToNew = std::min(distance2(oldMid, p0, pd, pc), distance2(oldMid, pd, p1, pc));
     const double newToOld = std::min(distance2(newMid, p0, p1, pc), distance2(newMid, p1, p0, pd));
     return std::max(oldToNew, newToOld) <= mSettings.deviation2;
@@ -534,10 +563,7 @@ PatchRemesher::isFlipAllowed(EdgeHandle e)
 void
 PatchRemesher::equalizeValences()
 {
-    mValence.assign(mMesh.n_vertices(), 0);
-    for (const VertexHandle v : mMesh.vertices()) {
-        if (!mMesh.status(v).deleted()) mValence[v.idx()] = int(mMesh.valence(v));
-    }
+    countValences();
     const std::size_t count = mMesh.n_edges();
     for (std::size_t i = 0; i < count; ++i) {
         const EdgeHandle e{int(i)};
@@ -562,6 +588,7 @@ PatchRemesher::equalizeValences()
             ++mValence[v[3].idx()];
         }
     }
+    mValence.clear();
 }
 
 
@@ -577,6 +604,14 @@ PatchRemesher::removeCaps()
                     ca = (a - c).normalized();
         return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});   // of the smallest angle
     };
+    // Opposite angles C and D sum to more than 180 degrees iff sin(C + D) < 0; with
+    // u, v the edges seen from a corner: sin ~ |u x v|, cos ~ u . v (same positive scale).
+    auto sumExceedsPi = [](const Point& p0, const Point& p1, const Point& pc, const Point& pd) {
+        const Point uc = p0 - pc, vc = p1 - pc, ud = p0 - pd, vd = p1 - pd;
+        const double sinC = (uc % vc).norm(), cosC = uc | vc;
+        const double sinD = (ud % vd).norm(), cosD = ud | vd;
+        return sinC * cosD + cosC * sinD < 0.0;
+    };
     const std::size_t count = mMesh.n_edges();
     for (std::size_t i = 0; i < count; ++i) {
         const EdgeHandle e{int(i)};
@@ -587,11 +622,7 @@ PatchRemesher::removeCaps()
         const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
         const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                     &pd = mMesh.point(d);
-        const double angleC = std::acos(std::clamp(
-            (p0 - pc).normalized() | (p1 - pc).normalized(), -1.0, 1.0));
-        const double angleD = std::acos(std::clamp(
-            (p0 - pd).normalized() | (p1 - pd).normalized(), -1.0, 1.0));
-        if (angleC + angleD <= M_PI) continue;
+        if (!sumExceedsPi(p0, p1, pc, pd)) continue;
         const double before = std::max(largestCos(p0, p1, pc), largestCos(p1, p0, pd));
         const double after = std::max(largestCos(p0, pd, pc), largestCos(pd, p1, pc));
         if (after < before && isFlipAllowed(e)) mMesh.flip(e);
@@ -639,19 +670,21 @@ PatchRemesher::projectToReference()
     for (const VertexHandle v : mMesh.vertices()) {
         normals[v.idx()] = refNormal(v);
         if (!isFree(v)) continue;
-        ReferenceSurface::Hit hit = mReference->closestPoint(toVec(mMesh.point(v)));
+        std::uint32_t& start = mMesh.property(mRefTriangle, v);
+        ReferenceSurface::Hit hit = mReference->closestPointNear(toVec(mMesh.point(v)), start);
         // A move that turns the normal away from the vertex's anchor crosses a crease and
         // would cut it off (vertices drift away from corners and tips): halve it, else stay.
         const Point& anchor = mMesh.property(mAnchor, v);
         if ((toPoint(hit.normal) | anchor) < mSettings.creaseCos) {
             const Point half = (mMesh.point(v) + mPrevious[v.idx()]) * 0.5;
-            hit = mReference->closestPoint(toVec(half));
+            hit = mReference->closestPointNear(toVec(half), start);
             if ((toPoint(hit.normal) | anchor) < mSettings.creaseCos) {
                 mMesh.set_point(v, mPrevious[v.idx()]);
                 continue;
             }
         }
         moved[v.idx()] = 1;
+        start = hit.triangle;
         mMesh.set_point(v, toPoint(hit.point));
         mMesh.property(mRefNormal, v) = toPoint(hit.normal);
     }
@@ -665,26 +698,34 @@ PatchRemesher::projectToReference()
         return (n | normals[a.idx()]) > 0.0 && (n | normals[b.idx()]) > 0.0
             && (n | normals[c.idx()]) > 0.0;
     };
-    for (int round = 0; round < 20; ++round) {
-        bool reverted = false;
-        for (const VertexHandle v : mMesh.vertices()) {
+    std::vector<VertexHandle> check, next;
+    for (const VertexHandle v : mMesh.vertices()) if (moved[v.idx()]) check.push_back(v);
+    for (int round = 0; round < 20 && !check.empty(); ++round) {
+        next.clear();
+        for (const VertexHandle v : check) {
             if (!moved[v.idx()]) continue;
             bool keep = true;
-            double nearest2 = std::numeric_limits<double>::infinity();
+            // The vertex is on its new faces: a short move cannot uncover its old place.
+            double nearest2 = (mMesh.point(v) - mPrevious[v.idx()]).sqrnorm();
             for (const FaceHandle f : mMesh.vf_range(v)) {
                 auto it = mMesh.cfv_iter(f);
                 const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
                             &c = mMesh.point(*++it);
-                nearest2 = std::min(nearest2, distance2(mPrevious[v.idx()], a, b, c));
+                if (nearest2 > mSettings.deviation2) {
+                    nearest2 = std::min(nearest2, distance2(mPrevious[v.idx()], a, b, c));
+                }
                 if (!agrees(f) && agreedBefore(f)) keep = false;
             }
             if (keep && nearest2 <= mSettings.deviation2) continue;
             moved[v.idx()] = 0;
             mMesh.set_point(v, mPrevious[v.idx()]);
             mMesh.property(mRefNormal, v) = normals[v.idx()];
-            reverted = true;
+            // Its neighbours' faces changed: look at them again.
+            for (const VertexHandle w : mMesh.vv_range(v)) if (moved[w.idx()]) next.push_back(w);
         }
-        if (!reverted) break;
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        check.swap(next);
     }
 }
 
