@@ -225,8 +225,9 @@ const char* const FOOTER =
     "  --per-label writes DIR/label_L.stl or .ply (label_m3 for -3), one closed, outward\n"
     "  oriented surface per label but the background; DIR is created if missing.\n"
     "\n"
-    "Remeshing is not implemented yet: the output is always the raw extraction, with or\n"
-    "without --no-remesh; --edge-length and --iterations are checked and passed on.\n"
+    "Remeshing is not yet enabled in the tool (the library has it, still under validation):\n"
+    "the output is the raw extraction, with or without --no-remesh; --edge-length and\n"
+    "--iterations are checked and passed on.\n"
     "\n"
     "Files are written to a temporary name and renamed when complete: a failed or\n"
     "interrupted run never leaves a partial output.\n"
@@ -290,7 +291,7 @@ configure(CLI::App& app, Settings& s)
         ->type_name("N")
         ->check(integerAtLeast(0));
     app.add_flag("--no-remesh", s.noRemesh,
-        "Keep the raw extraction (always the case for\nnow: remeshing is not implemented yet)");
+        "Keep the raw extraction (always the case for\nnow: remeshing is not yet enabled in the tool)");
     app.add_flag("--stats", s.stats,
         "Print statistics to stdout: labels, critical\nelements, subdivided voxels, patches,\n"
         "triangles, seconds per stage, peak memory");
@@ -605,7 +606,7 @@ run(const Settings& s)
         parseConstraint(text, options.repair.constraints.back());
     }
     options.repair.interrupter = progress.isEnabled() ? &progress : nullptr;
-    options.remesh = false; // not implemented yet: the raw extraction, --no-remesh or not
+    options.remesh = false; // not yet enabled here: the raw extraction, --no-remesh or not
     options.edgeLength = s.edgeLength;
     options.iterations = s.iterations;
 
