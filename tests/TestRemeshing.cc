@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 
+#include "support/MeshChecker.h"
 #include "support/TestData.h"
 
 #include <vdbi/FeatureCurves.h>
@@ -20,6 +21,7 @@
 #include <cstdio>
 #include <map>
 #include <random>
+#include <string>
 #include <set>
 #include <tuple>
 #include <utility>
@@ -294,6 +296,24 @@ printQuality(const char* name, const vdbi::InterfaceMesh& raw, const vdbi::Inter
                 q.angleP1, q.angleMedian, q.radiusRatioP1);
 }
 
+/// The independent checker (tests/support/MeshChecker) agrees, and remeshing changed no
+/// label's topology: every label surface is closed, with the Euler characteristic it had.
+void
+expectSameTopology(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
+                   const std::string& name)
+{
+    const vdbi_test::MeshReport before = vdbi_test::checkMesh(raw);
+    const vdbi_test::MeshReport after = vdbi_test::checkMesh(out, false);
+    EXPECT_TRUE(after.ok()) << name << ": " << after.summary();
+    ASSERT_EQ(after.labels.size(), before.labels.size()) << name;
+    for (const auto& [label, report] : before.labels) {
+        const auto it = after.labels.find(label);
+        ASSERT_NE(it, after.labels.end()) << name << ": label " << label;
+        EXPECT_TRUE(it->second.closed()) << name << ": label " << label;
+        EXPECT_EQ(it->second.euler, report.euler) << name << ": label " << label;
+    }
+}
+
 /// The whole check for one volume at one target length (in voxels; the test grids have
 /// unit voxels): guarantees, same patches, closeness both ways (within @a maxDistance
 /// voxels), quality printed.
@@ -314,6 +334,7 @@ checkRemeshing(const char* name, const vdbi::InterfaceMesh& raw, double target,
     EXPECT_EQ(out.keyScale, 0);
     // OpenMesh accepts every patch: no complex edge or vertex.
     EXPECT_NO_THROW(vdbi::toPatchMeshes(out));
+    expectSameTopology(raw, out, name);
     if (measureDistances) {
         const auto [toRaw, toOut] = hausdorffParts(raw, out);
         std::printf("[ %s ] target %.2f: remeshed->raw %.3f, raw->remeshed %.3f voxels\n", name,
@@ -378,7 +399,7 @@ TEST_F(TestRemeshing, testFeatureCurvesOfTouchingBoxes)
     // The contact rectangle x = 8, y in [1, 6), z in [0, 5) has perimeter 2 * (5 + 5) = 20.
     EXPECT_EQ(edgeCount, 20u);
 
-    vdbi::smoothFeatureCurves(curves, raw, 10, 0.5);
+    vdbi::smoothFeatureCurves(curves, raw, 10, Vec3d(0.5));
     vdbi::resampleFeatureCurves(curves, 2.0);
     for (const auto& curve : curves.curves) {
         ASSERT_EQ(curve.smoothed.size(), curve.points.size());
@@ -438,6 +459,7 @@ TEST_F(TestRemeshing, testNoiseVolumes)
         for (double target : {0.7, 2.0}) {
             const auto out = remesh(raw, target);
             EXPECT_TRUE(isConsistentAndManifold(out)) << "seed " << seed << " target " << target;
+            expectSameTopology(raw, out, "noise seed " + std::to_string(seed));
             ASSERT_EQ(out.patches.size(), raw.patches.size());
             for (const auto& p : out.patches) EXPECT_GT(p.triangleCount, 0u);
         }

@@ -3,6 +3,7 @@
 #include <vdbi/FeatureCurves.h>
 
 #include <vdbi/Exceptions.h>
+#include <vdbi/ReferenceSurface.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -250,7 +251,7 @@ findFeatureCurves(const InterfaceMesh& mesh, bool threaded)
 
 void
 smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int iterations,
-                    double maxDisplacement, bool threaded)
+                    const openvdb::Vec3d& maxDisplacement, bool threaded)
 {
     // Taubin's lambda/mu pair: the second step undoes the shrinking of the first.
     constexpr double LAMBDA = 0.5, MU = -0.53;
@@ -260,16 +261,12 @@ smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int iterat
         std::vector<openvdb::Vec3d> original(n), previous(n);
         for (std::size_t i = 0; i < n; ++i) original[i] = mesh.points[curve.points[i]];
         curve.smoothed = original;
-        const double max2 = maxDisplacement * maxDisplacement;
         auto step = [&](double factor) {
             previous = curve.smoothed;
             for (std::size_t i = 1; i + 1 < n; ++i) {
                 const openvdb::Vec3d mid = (previous[i - 1] + previous[i + 1]) * 0.5;
-                openvdb::Vec3d p = previous[i] + (mid - previous[i]) * factor;
-                const openvdb::Vec3d d = p - original[i];
-                const double d2 = d.lengthSqr();
-                if (d2 > max2) p = original[i] + d * (maxDisplacement / std::sqrt(d2));
-                curve.smoothed[i] = p;
+                curve.smoothed[i] = clampDisplacement(previous[i] + (mid - previous[i]) * factor,
+                                                      original[i], maxDisplacement);
             }
         };
         for (int it = 0; it < iterations; ++it) {

@@ -81,11 +81,12 @@ FeatureCurves findFeatureCurves(const InterfaceMesh& mesh, bool threaded = true)
 
 /// @brief Smooths every curve along itself, its two ends fixed.
 /// @details Taubin smoothing (a shrinking and an inflating Laplacian step per iteration);
-/// after every step a point farther than @a maxDisplacement from its extracted position is
-/// pulled back onto that sphere, so the curve stays within @a maxDisplacement of the voxel
-/// staircase it came from. Fills FeatureCurve::smoothed and arcLength.
+/// after every step a point outside the axis-aligned ellipsoid with semi-axes
+/// @a maxDisplacement (world units per axis) around its extracted position is pulled back
+/// onto it, so the curve stays that close to the voxel staircase it came from. Fills
+/// FeatureCurve::smoothed and arcLength.
 void smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int iterations,
-                         double maxDisplacement, bool threaded = true);
+                         const openvdb::Vec3d& maxDisplacement, bool threaded = true);
 
 /// @brief Resamples every smoothed curve once, uniformly in arc length.
 /// @details A curve of length L gets n = max(1, round(L / targetLength)) segments, at least

@@ -10,7 +10,6 @@
 
 #include <openvdb/Exceptions.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -115,7 +114,7 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
         const openvdb::Vec3d voxel = grid.voxelSize();
         remeshing.edgeLength = options.edgeLength > 0.0 ? options.edgeLength : voxel[0];
         remeshing.iterations = options.iterations;
-        remeshing.voxelSize = std::min({voxel[0], voxel[1], voxel[2]});
+        remeshing.voxelSize = voxel;
         remeshing.threaded = options.repair.threaded;
         remeshing.interrupter = options.repair.interrupter;
         result.mesh = remeshPatches(result.mesh, remeshing);

@@ -51,11 +51,21 @@ constexpr std::size_t NEAREST_VERTICES = 4;
 } // namespace
 
 
+Vec3d
+clampDisplacement(const Vec3d& p, const Vec3d& origin, const Vec3d& bound)
+{
+    const Vec3d d = p - origin;
+    const Vec3d scaled(d[0] / bound[0], d[1] / bound[1], d[2] / bound[2]);
+    const double s2 = scaled.lengthSqr();
+    return s2 > 1.0 ? origin + d / std::sqrt(s2) : p;
+}
+
+
 void
 smoothSurfacePoints(std::vector<Vec3d>& points, const std::vector<Vec3d>& original,
                     const std::vector<openvdb::Vec3I>& triangles,
                     const std::vector<std::uint8_t>& fixed, int iterations,
-                    double maxDisplacement)
+                    const Vec3d& maxDisplacement)
 {
     constexpr double LAMBDA = 0.5, MU = -0.53;   // Taubin's pass band pair
     std::vector<std::uint32_t> start, neighbours;
@@ -64,7 +74,6 @@ smoothSurfacePoints(std::vector<Vec3d>& points, const std::vector<Vec3d>& origin
     for (std::uint32_t v = 0; v < points.size(); ++v) {
         if (!fixed[v] && start[v + 1] > start[v]) movable.push_back(v);
     }
-    const double max2 = maxDisplacement * maxDisplacement;
     std::vector<Vec3d> previous;
     auto step = [&](double factor) {
         previous = points;
@@ -72,11 +81,8 @@ smoothSurfacePoints(std::vector<Vec3d>& points, const std::vector<Vec3d>& origin
             Vec3d sum(0.0);
             for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) sum += previous[neighbours[i]];
             const Vec3d mean = sum / double(start[v + 1] - start[v]);
-            Vec3d p = previous[v] + (mean - previous[v]) * factor;
-            const Vec3d d = p - original[v];
-            const double d2 = d.lengthSqr();
-            if (d2 > max2) p = original[v] + d * (maxDisplacement / std::sqrt(d2));
-            points[v] = p;
+            points[v] = clampDisplacement(previous[v] + (mean - previous[v]) * factor,
+                                          original[v], maxDisplacement);
         }
     };
     for (int it = 0; it < iterations; ++it) {

@@ -17,7 +17,7 @@ namespace vdbi {
 /// @brief Smooths a triangle surface in place, with a bound on how far any point moves.
 /// @details Taubin smoothing with the uniform (umbrella) Laplacian: per iteration a shrinking
 /// step and an inflating step, so the volume stays; after every step a point farther than
-/// @a maxDisplacement from @a original is pulled back onto that sphere. This removes the voxel
+/// @a maxDisplacement from @a original is pulled back onto that bound. This removes the voxel
 /// staircase (steps of one voxel) while thin structures keep their thickness: nothing moves
 /// more than the bound (ALGORITHM.md §5). Fixed points (the patch boundary, already on the
 /// smoothed feature curves) do not move.
@@ -26,12 +26,19 @@ namespace vdbi {
 /// @param triangles        the triangles; a free point must be interior (a closed 1-ring)
 /// @param fixed            one flag per point: nonzero keeps the point where it is
 /// @param iterations       number of Taubin iterations (two Laplacian steps each)
-/// @param maxDisplacement  the bound, in world units
+/// @param maxDisplacement  the bound in world units per axis: the semi-axes of an
+///                         axis-aligned ellipsoid around the original point (a fraction of
+///                         the voxel size, which may differ per axis)
 void smoothSurfacePoints(std::vector<openvdb::Vec3d>& points,
                          const std::vector<openvdb::Vec3d>& original,
                          const std::vector<openvdb::Vec3I>& triangles,
                          const std::vector<std::uint8_t>& fixed, int iterations,
-                         double maxDisplacement);
+                         const openvdb::Vec3d& maxDisplacement);
+
+/// @brief @a p moved back onto the axis-aligned ellipsoid with semi-axes @a bound around
+/// @a origin if it lies outside, along the line to @a origin; else @a p.
+openvdb::Vec3d clampDisplacement(const openvdb::Vec3d& p, const openvdb::Vec3d& origin,
+                                 const openvdb::Vec3d& bound);
 
 /// @brief A triangle surface with closest-point queries.
 /// @details A KD-tree (nanoflann) over the vertices finds the nearest few vertices; the

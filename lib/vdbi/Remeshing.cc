@@ -45,6 +45,13 @@ distance2(const Point& p, const Point& a, const Point& b, const Point& c)
         .lengthSqr();
 }
 
+/// How far, in voxels, smoothing may move a curve point and a reference surface point: enough
+/// to flatten the staircase, little enough that a one-voxel rod keeps most of its section.
+constexpr double CURVE_BOUND = 0.45, SURFACE_BOUND = 0.45;
+/// How far, in voxels, a collapse, flip or relaxation move may take the surface from a point
+/// it had.
+constexpr double DEVIATION = 0.4;
+
 /// Numbers every stage needs, derived once from RemeshOptions.
 struct Settings
 {
@@ -54,8 +61,8 @@ struct Settings
     int iterations = 10;
     int curveSmoothing = 10;       ///< Taubin iterations along the feature curves
     int surfaceSmoothing = 10;     ///< Taubin iterations of the reference surfaces
-    double curveBound = 0.0;       ///< how far a curve point may move (world units)
-    double surfaceBound = 0.0;     ///< how far a reference surface point may move
+    Vec3d curveBound;              ///< how far a curve point may move (world units per axis)
+    Vec3d surfaceBound;            ///< how far a reference surface point may move
     /// (Largest distance)^2 between a point of the surface before a collapse, flip or
     /// relaxation move and the surface after it: keeps tips and thin parts from being eaten.
     double deviation2 = 0.0;
@@ -452,12 +459,18 @@ PatchRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& posit
     const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
     const VertexHandle vr = mMesh.to_vertex_handle(
         mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(h)));
-    // No edge longer than the split limit, no inner edge between two locked vertices.
+    // No edge longer than the split limit, no inner edge between two locked vertices. A
+    // vertex with only locked neighbours stays: it is the centre of a fan filling a small
+    // boundary loop, without it two patches on the same loop would become the same
+    // triangle.
+    bool lockedRing = true;
     for (const VertexHandle w : mMesh.vv_range(v0)) {
+        lockedRing = lockedRing && isLocked(w);
         if (w == v1 || w == vl || w == vr) continue;
         if (isLocked(v1) && isLocked(w)) return false;
         if ((mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
     }
+    if (lockedRing) return false;
     if (moves) {
         for (const VertexHandle w : mMesh.vv_range(v1)) {
             if (w != v0 && (mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
@@ -808,32 +821,37 @@ PatchRemesher::run()
 }
 
 
-/// World size of one voxel from the point keys: the smallest ratio of world to key distance
-/// along a triangle edge that is parallel to an axis of the key grid.
-double
+/// World size of one voxel per axis from the point keys: the smallest ratio of world to key
+/// distance along triangle edges parallel to that axis of the key grid; zeros without keys.
+Vec3d
 voxelSizeFromKeys(const InterfaceMesh& mesh)
 {
-    if (mesh.pointKeys.size() != mesh.points.size() || mesh.keyScale <= 0) return 0.0;
-    double best = std::numeric_limits<double>::infinity();
+    if (mesh.pointKeys.size() != mesh.points.size() || mesh.keyScale <= 0) return Vec3d(0.0);
+    const double inf = std::numeric_limits<double>::infinity();
+    Vec3d best(inf, inf, inf);
     const std::size_t count = std::min<std::size_t>(mesh.triangles.size(), 4096);
     for (std::size_t t = 0; t < count; ++t) {
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t u = mesh.triangles[t][i], v = mesh.triangles[t][(i + 1) % 3];
             const VertexKey &ku = mesh.pointKeys[u], &kv = mesh.pointKeys[v];
-            int axes = 0;
+            int axes = 0, axis = 0;
             std::int64_t delta = 0;
             for (int k = 0; k < 3; ++k) {
                 if (ku[k] != kv[k]) {
                     ++axes;
+                    axis = k;
                     delta = std::abs(ku[k] - kv[k]);
                 }
             }
             if (axes != 1) continue;
             const double world = (mesh.points[u] - mesh.points[v]).length();
-            best = std::min(best, world * double(mesh.keyScale) / double(delta));
+            best[axis] = std::min(best[axis], world * double(mesh.keyScale) / double(delta));
         }
     }
-    return std::isfinite(best) ? best : 0.0;
+    const double smallest = std::min({best[0], best[1], best[2]});
+    if (!std::isfinite(smallest)) return Vec3d(0.0);
+    for (int k = 0; k < 3; ++k) if (!std::isfinite(best[k])) best[k] = smallest;
+    return best;
 }
 
 } // namespace
@@ -850,17 +868,19 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options)
         OPENVDB_THROW(openvdb::ValueError, "remeshing: iterations must be >= 0, not "
             << options.iterations);
     }
-    double voxel = options.voxelSize > 0.0 ? options.voxelSize : voxelSizeFromKeys(raw);
-    if (!(voxel > 0.0)) voxel = options.edgeLength;
+    Vec3d voxel = options.voxelSize;
+    if (!(voxel[0] > 0.0 && voxel[1] > 0.0 && voxel[2] > 0.0)) voxel = voxelSizeFromKeys(raw);
+    if (!(voxel[0] > 0.0 && voxel[1] > 0.0 && voxel[2] > 0.0)) voxel = Vec3d(options.edgeLength);
+    const double smallestVoxel = std::min({voxel[0], voxel[1], voxel[2]});
 
     Settings settings;
     settings.target = options.edgeLength;
     settings.low2 = std::pow(0.8 * options.edgeLength, 2);
     settings.high2 = std::pow(4.0 / 3.0 * options.edgeLength, 2);
     settings.iterations = options.iterations;
-    settings.curveBound = 0.5 * voxel;
-    settings.surfaceBound = 0.5 * voxel;
-    settings.deviation2 = std::pow(0.4 * voxel, 2);
+    settings.curveBound = voxel * CURVE_BOUND;
+    settings.surfaceBound = voxel * SURFACE_BOUND;
+    settings.deviation2 = std::pow(DEVIATION * smallestVoxel, 2);
 
     checkInterrupt(options.interrupter, "remeshing");
     FeatureCurves curves = findFeatureCurves(raw, options.threaded);

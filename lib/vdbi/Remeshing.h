@@ -7,6 +7,7 @@
 
 #include <vdbi/InterfaceMesh.h>
 
+#include <openvdb/Types.h>
 #include <openvdb/util/NullInterrupter.h>
 
 namespace vdbi {
@@ -18,10 +19,11 @@ struct RemeshOptions
     double edgeLength = 1.0;
     /// Split/collapse/flip/relax/project rounds.
     int iterations = 10;
-    /// World size of one voxel: the unit of the smoothing bounds (curves and reference
-    /// surfaces stay within half a voxel of the extraction). 0: derived from the mesh's point
-    /// keys (the smallest voxel side), or the edge length when there are no keys.
-    double voxelSize = 0.0;
+    /// World size of one voxel along x, y and z (an axis-aligned transform): the unit of the
+    /// smoothing bounds, so curves and reference surfaces stay within a fraction of a voxel of
+    /// the staircase along every axis. Zeros: derived from the mesh's point keys, or the edge
+    /// length when there are no keys.
+    openvdb::Vec3d voxelSize = openvdb::Vec3d(0.0);
     /// Patches in parallel with TBB; the result is the same either way.
     bool threaded = true;
     /// Polled between stages and between patches; may be null.
