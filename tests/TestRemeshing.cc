@@ -3,6 +3,7 @@
 #include "support/MeshChecker.h"
 #include "support/TestData.h"
 
+#include <vdbi/Exceptions.h>
 #include <vdbi/FeatureCurves.h>
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
@@ -535,4 +536,18 @@ TEST_F(TestRemeshing, testPipeline)
     const vdbi::Result coarse = vdbi::extractInterfaces(*grid, options);
     EXPECT_TRUE(isConsistentAndManifold(coarse.mesh));
     EXPECT_LT(coarse.mesh.triangles.size(), raw.mesh.triangles.size() / 2);
+}
+
+// An interrupter that says stop ends the remeshing with vdbi::Interrupted.
+TEST_F(TestRemeshing, testInterrupted)
+{
+    struct Stop : openvdb::util::NullInterrupter
+    {
+        bool wasInterrupted(int = -1) override { return true; }
+    } stop;
+    const auto raw = extract(*touchingBoxes());
+    vdbi::RemeshOptions options;
+    options.edgeLength = 1.0;
+    options.interrupter = &stop;
+    EXPECT_THROW(vdbi::remeshPatches(raw, options), vdbi::Interrupted);
 }
