@@ -52,6 +52,8 @@ struct Input
     openvdb::Int32Grid::Ptr grid;
     vdbi::Options options;
     std::set<Label> labels;      ///< every label of the volume, the background included
+    /// May have patches: the labels, plus a constraint's separator (inserted between a, b).
+    std::set<Label> allowed;
     bool compareThreading = false;
 };
 
@@ -92,6 +94,7 @@ decode(const std::uint8_t* data, std::size_t size)
             palette[byte(8) % unsigned(k)], palette[byte(9) % unsigned(k)]};
         if (c.a != c.b && c.separator != c.a && c.separator != c.b) {
             repair.constraints.push_back(c);
+            in.allowed.insert(c.separator);
         }
     }
     if (flags & 4u) {
@@ -104,6 +107,7 @@ decode(const std::uint8_t* data, std::size_t size)
         repair.priority = vdbi::LabelPriority(order);
     }
     in.compareThreading = (flags & 128u) != 0;
+    in.allowed.insert(in.labels.begin(), in.labels.end());
     return in;
 }
 
@@ -122,7 +126,8 @@ edgeKey(std::uint32_t u, std::uint32_t v)
 
 /// The self-contained checker (see the file comment); aborts on the first violation.
 void
-checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels)
+checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels,
+          const std::set<Label>& allowed)
 {
     const std::size_t n = mesh.points.size();
     if (!mesh.pointKeys.empty()) {
@@ -143,7 +148,7 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels)
             fail("patches not contiguous, or empty");
         }
         first += patch.triangleCount;
-        if (!labels.count(patch.a) || !labels.count(patch.b)) fail("patch of an absent label");
+        if (!allowed.count(patch.a) || !allowed.count(patch.b)) fail("patch of an absent label");
         patchesOf[patch.a].push_back(p);
         patchesOf[patch.b].push_back(p);
     }
@@ -153,7 +158,11 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels)
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) fail("degenerate triangle");
     }
     // A volume of several labels has an interface around every one of them.
-    if (labels.size() > 1 && patchesOf.size() != labels.size()) fail("a label without patch");
+    if (labels.size() > 1) {
+        for (const Label label : labels) {
+            if (!patchesOf.count(label)) fail("label " + std::to_string(label) + " has no patch");
+        }
+    }
 
     // Per patch: directed edges unique, undirected edges in at most 2 triangles. Sorted
     // arrays rather than hash maps: the meshes have tens of thousands of edges.
@@ -176,7 +185,7 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels)
             fail("directed edge twice in a patch");
         }
         for (std::size_t i = 2; i < undirected.size(); ++i) {
-            if (undirected[i] == undirected[i - 2]) fail("edge in more than 2 triangles of a patch");
+            if (undirected[i] == undirected[i - 2]) fail("edge in 3 or more triangles of a patch");
         }
     }
     // Per label: the union, oriented outward, is closed.
@@ -218,7 +227,7 @@ LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 
     Input in = decode(data, size);
     const vdbi::Result result = vdbi::extractInterfaces(*in.grid, in.options);
-    checkMesh(result.mesh, in.labels);
+    checkMesh(result.mesh, in.labels, in.allowed);
     if (in.compareThreading) {
         // Thread scheduling must not change a single byte of the result.
         in.options.repair.threaded = !in.options.repair.threaded;
