@@ -37,14 +37,20 @@ struct RemeshOptions
 /// 1. The feature curves (patch boundaries) are smoothed along themselves and resampled
 ///    once, the same samples for every patch on a curve; junctions stay where they are.
 /// 2. Every patch (in parallel, independently) gets a reference surface: its triangles
-///    smoothed within half a voxel of the staircase, its boundary on the smoothed curves.
+///    smoothed within 0.45 voxel (per axis) of the staircase, its boundary on the smoothed
+///    curves.
 /// 3. The patch's boundary is replaced by the curve samples: a strip of triangles between
 ///    the extracted boundary and the sample polyline makes the samples the new boundary;
 ///    boundary vertices are locked from then on.
-/// 4. Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than 4/5,
-///    flip edges towards valence 6 (4 on the boundary), tangential relaxation, projection
-///    onto the reference surface. No operation creates a non-manifold configuration, a
-///    folded triangle, or an interior edge between two boundary vertices.
+/// 4. Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than 4/5
+///    (to the midpoint on flat ground, onto the sharper end on a crease), flip edges towards
+///    valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
+///    smallest angle), tangential relaxation, projection onto the reference surface. No
+///    operation creates a non-manifold configuration, a folded triangle, an interior edge
+///    between two boundary vertices, or takes the surface more than 0.4 voxel away from a
+///    point it had; no relaxation move drags a vertex across a crease. So a patch never
+///    loses its topology (every label keeps its Euler characteristic) and a small patch
+///    keeps a fan around an inner vertex.
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.
