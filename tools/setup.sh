@@ -20,7 +20,7 @@ packages=(build-essential cmake ninja-build
           libopenmesh-dev libnanoflann-dev libcli11-dev libgtest-dev libbenchmark-dev)
 missing=()
 for p in "${packages[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+    [[ $(dpkg-query -W -f='${Status}' "$p" 2>/dev/null) == *" ok installed" ]] || missing+=("$p")
 done
 if ((${#missing[@]})); then
     echo "setup: installing ${missing[*]}"
