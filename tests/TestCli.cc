@@ -150,7 +150,7 @@ TEST_F(TestCli, testHelp)
             "--per-label-format", "--grid", "--threads", "--priority", "--separate",
             "--edge-length", "--iterations", "--no-remesh", "--stats", "--report",
             "-h,--help", "--version", ".vdb", ".vox", ".mhd", ".mha", ".ply", ".obj", ".vtp",
-            "Int64", "stl", "BoundaryLabels", "patch_A_B", "not yet enabled", "Exit status"};
+            "Int64", "stl", "BoundaryLabels", "patch_A_B", "on unless --no-remesh", "Exit status"};
         for (const std::string& e : expected) EXPECT_TRUE(contains(r.out, e)) << e;
     }
 }
@@ -393,7 +393,7 @@ TEST_F(TestCli, testInterruptLeavesNoTemporary)
     // the run finished first, the output is complete and the status 0.
     const std::string script = "cd " + shellQuote(mWork.string()) + " && { "
         + shellQuote(VDBI_CLI_PATH) + " " + shellQuote(vdbi_test::dataPath("menger.vox"))
-        + " -o menger.obj 2>" + shellQuote((mCapture / "err").string()) + " & pid=$!; "
+        + " --no-remesh -o menger.obj 2>" + shellQuote((mCapture / "err").string()) + " & pid=$!; "
         + "while [ ! -e menger.obj.tmp-$pid ] && kill -0 $pid 2>/dev/null; do sleep 0.002; "
         + "done; kill -INT $pid 2>/dev/null; wait $pid; echo $? >"
         + shellQuote((mCapture / "status").string()) + "; }";
@@ -414,9 +414,36 @@ TEST_F(TestCli, testInterruptLeavesNoTemporary)
     }
 }
 
+/// The number after "key": in a JSON report.
+std::size_t
+jsonCount(const std::string& report, const std::string& key)
+{
+    const std::size_t at = report.find("\"" + key + "\": ");
+    return at == std::string::npos ? 0 : std::stoul(report.substr(at + key.size() + 4));
+}
+
+TEST_F(TestCli, testRemeshingIsTheDefault)
+{
+    ASSERT_EQ(run({mKnight, "--report", "remeshed.json"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "coarse.json", "--edge-length", "3"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "raw.json", "--no-remesh"}).status, 0);
+    const std::string remeshed = readAll(work("remeshed.json"));
+    const std::string coarse = readAll(work("coarse.json"));
+    const std::string raw = readAll(work("raw.json"));
+    EXPECT_TRUE(contains(remeshed, "\"name\": \"remeshing\""));
+    EXPECT_TRUE(contains(coarse, "\"name\": \"remeshing\""));
+    EXPECT_FALSE(contains(raw, "\"name\": \"remeshing\""));
+    // Same repair, so the same patches; a longer target edge gives fewer triangles.
+    EXPECT_EQ(jsonCount(remeshed, "patches"), jsonCount(raw, "patches"));
+    EXPECT_EQ(jsonCount(coarse, "patches"), jsonCount(raw, "patches"));
+    EXPECT_GT(jsonCount(remeshed, "triangles"), 0u);
+    EXPECT_NE(jsonCount(remeshed, "triangles"), jsonCount(raw, "triangles"));
+    EXPECT_LT(jsonCount(coarse, "triangles"), jsonCount(remeshed, "triangles"));
+}
+
 TEST_F(TestCli, testOptionsAccepted)
 {
-    // Every option with a valid value (remeshing is accepted but not done yet).
+    // Every option with a valid value.
     const CliResult r = run({"--priority", "1,2", mKnight, "--separate", "1,2:3", "--separate",
         "4,5:6", "--edge-length", "0.5", "--iterations", "3", "--no-remesh", "--threads", "2",
         "-o", "out.ply"});
