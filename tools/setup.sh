@@ -17,7 +17,8 @@ jobs=${JOBS:-$(nproc)}
 
 packages=(build-essential cmake ninja-build
           libopenvdb-dev libboost-iostreams-dev libtbb-dev libblosc-dev zlib1g-dev
-          libopenmesh-dev libnanoflann-dev libcli11-dev libgtest-dev libbenchmark-dev)
+          libopenmesh-dev libnanoflann-dev libcli11-dev nlohmann-json3-dev
+          libgtest-dev libbenchmark-dev)
 missing=()
 for p in "${packages[@]}"; do
     [[ $(dpkg-query -W -f='${Status}' "$p" 2>/dev/null) == *" ok installed" ]] || missing+=("$p")

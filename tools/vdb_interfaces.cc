@@ -10,6 +10,7 @@
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
 #include <vdbi/MeshWriter.h>
+#include <vdbi/RunReport.h>
 #include <vdbi/Types.h>
 
 #include <openvdb/Exceptions.h>
@@ -22,7 +23,6 @@
 
 #include <pthread.h>      // for pthread_sigmask
 #include <signal.h>       // for sigwait
-#include <sys/resource.h> // for getrusage
 #include <unistd.h>       // for isatty, access
 
 #include <algorithm>
@@ -34,7 +34,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -438,7 +437,7 @@ checkFiles(const Settings& s)
 }
 
 // ---------------------------------------------------------------------------------------
-// Progress, statistics, report
+// Progress and report
 
 /// Prints stage names when stderr is a terminal.
 class Progress : public openvdb::util::NullInterrupter
@@ -456,118 +455,11 @@ private:
     bool mEnabled;
 };
 
-/// Peak resident memory in bytes (Linux reports ru_maxrss in KiB).
-std::uint64_t
-peakMemoryBytes()
-{
-    struct rusage usage;
-    if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
-    return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024u;
-}
-
-struct Report
-{
-    vdbi::Statistics statistics;
-    /// Reading, the pipeline's stages, then writing.
-    std::vector<std::pair<std::string, double>> stages;
-    double totalSeconds = 0.0;
-    std::uint64_t peakMemory = 0;
-};
-
-/// The counts in the order they are printed, with their JSON keys.
-std::vector<std::pair<std::string, std::string>>
-countFields()
-{
-    return {{"labels", "labels"}, {"critical faces", "critical_faces"},
-        {"critical edges", "critical_edges"}, {"critical vertices", "critical_vertices"},
-        {"singular vertices", "singular_vertices"}, {"subdivision", "subdivision"},
-        {"subdivided voxels", "subdivided_voxels"},
-        {"relabelled subvoxels", "relabelled_subvoxels"}, {"patches", "patches"},
-        {"triangles", "triangles"}, {"vertices", "vertices"}};
-}
-
-std::vector<std::uint64_t>
-countValues(const vdbi::Statistics& st)
-{
-    return {st.labelCount, st.criticalFaces, st.criticalEdges, st.criticalVertices,
-        st.singularVertices, static_cast<std::uint64_t>(st.subdivision), st.subdividedVoxels,
-        st.relabelledSubvoxels, st.patches, st.triangles, st.vertices};
-}
-
 void
-printStatistics(std::ostream& os, const Report& report)
+writeReport(const std::string& path, const vdbi::RunReport& report)
 {
-    const auto fields = countFields();
-    const auto values = countValues(report.statistics);
-    os << std::left;
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-        os << std::setw(22) << fields[i].first << values[i] << "\n";
-    }
-    os << "seconds\n" << std::fixed << std::setprecision(3);
-    for (const auto& [name, seconds] : report.stages) {
-        os << "  " << std::setw(20) << name << seconds << "\n";
-    }
-    os << "  " << std::setw(20) << "total" << report.totalSeconds << "\n";
-    os << std::setw(22) << "peak memory" << std::setprecision(1)
-       << double(report.peakMemory) / (1024.0 * 1024.0) << " MiB\n";
-    os << std::defaultfloat;
-}
-
-std::string
-jsonString(const std::string& text)
-{
-    std::string out = "\"";
-    for (const unsigned char c : text) {
-        switch (c) {
-        case '"': out += "\\\""; break;
-        case '\\': out += "\\\\"; break;
-        case '\n': out += "\\n"; break;
-        case '\t': out += "\\t"; break;
-        case '\r': out += "\\r"; break;
-        default:
-            if (c < 0x20) {
-                char buffer[8];
-                std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-                out += buffer;
-            } else {
-                out += static_cast<char>(c);
-            }
-        }
-    }
-    return out + "\"";
-}
-
-std::string
-jsonNumber(double value)
-{
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
-
-void
-writeReport(const std::string& path, const Settings& s, const Report& report)
-{
-    vdbi::writeFileAtomically(path, [&](std::ostream& os) {
-        os << "{\n"
-           << "  \"program\": " << jsonString(PROGRAM) << ",\n"
-           << "  \"version\": " << jsonString(VDBI_VERSION) << ",\n"
-           << "  \"input\": " << jsonString(s.input) << ",\n";
-        const auto fields = countFields();
-        const auto values = countValues(report.statistics);
-        for (std::size_t i = 0; i < fields.size(); ++i) {
-            os << "  " << jsonString(fields[i].second) << ": " << values[i] << ",\n";
-        }
-        os << "  \"stages\": [";
-        for (std::size_t i = 0; i < report.stages.size(); ++i) {
-            os << (i ? ",\n" : "\n") << "    {\"name\": " << jsonString(report.stages[i].first)
-               << ", \"seconds\": " << jsonNumber(report.stages[i].second) << "}";
-        }
-        os << "\n  ],\n"
-           << "  \"total_seconds\": " << jsonNumber(report.totalSeconds) << ",\n"
-           << "  \"peak_memory_bytes\": " << report.peakMemory << "\n"
-           << "}\n";
-    }, /*binary=*/false);
+    vdbi::writeFileAtomically(path,
+        [&](std::ostream& os) { vdbi::writeRunReportJson(os, report); }, /*binary=*/false);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -590,7 +482,10 @@ run(const Settings& s)
     }
 
     Progress progress;
-    Report report;
+    vdbi::RunReport report;
+    report.program = PROGRAM;
+    report.version = VDBI_VERSION;
+    report.input = s.input;
     const auto start = std::chrono::steady_clock::now();
 
     auto clock = std::chrono::steady_clock::now();
@@ -637,10 +532,10 @@ run(const Settings& s)
         report.stages.emplace_back("write", secondsSince(clock));
     }
     report.totalSeconds = secondsSince(start);
-    report.peakMemory = peakMemoryBytes();
+    report.peakMemoryBytes = vdbi::peakResidentMemoryBytes();
 
-    if (s.stats) printStatistics(std::cout, report);
-    if (!s.reportPath.empty()) writeReport(s.reportPath, s, report);
+    if (s.stats) vdbi::printRunReport(std::cout, report);
+    if (!s.reportPath.empty()) writeReport(s.reportPath, report);
     std::cout << std::flush;
     if (!std::cout) OPENVDB_THROW(openvdb::IoError, "stdout: write failed");
 }
