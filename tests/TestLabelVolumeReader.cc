@@ -3,6 +3,7 @@
 #include <vdbi/LabelVolumeReader.h>
 
 #include "support/TestData.h"
+#include "support/TestFiles.h"
 
 #include <openvdb/Exceptions.h>
 #include <openvdb/io/File.h>
@@ -17,43 +18,14 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-
-template<typename E>
-void
-expectError(const std::function<void()>& read, const std::string& path, const std::string& word)
-{
-    try {
-        read();
-        ADD_FAILURE() << "no exception for " << path << " (expected '" << word << "')";
-    } catch (const E& e) {
-        const std::string message = e.what();
-        const std::size_t start = message.find(": ");
-        ASSERT_NE(start, std::string::npos) << message;
-        EXPECT_EQ(message.compare(start + 2, path.size(), path), 0) << message;
-        EXPECT_NE(message.find(word), std::string::npos) << message << " lacks '" << word << "'";
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "wrong exception type: " << e.what();
-    }
-}
-
-} // namespace
+using vdbi_test::expectError;
 
 class TestLabelVolumeReader : public ::testing::Test
 {
 protected:
-    void SetUp() override
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        mDir = fs::path(::testing::TempDir()) / (std::string("vdbi_TestLabelVolumeReader_")
-            + info->name() + "_" + std::to_string(std::random_device()()));
-        fs::create_directories(mDir);
-    }
-    void TearDown() override { fs::remove_all(mDir); }
+    std::string path(const std::string& name) const { return mFolder.file(name); }
 
-    std::string path(const std::string& name) const { return (mDir / name).string(); }
-
-    fs::path mDir;
+    vdbi_test::TempFolder mFolder;
 };
 
 TEST_F(TestLabelVolumeReader, testDispatchByExtension)

@@ -6,6 +6,8 @@
 #include <vdbi/AtomicFile.h>
 #include <vdbi/MeshWriter.h>
 
+#include "support/TestFiles.h"
+
 #include <openvdb/Exceptions.h>
 
 #include <gtest/gtest.h>
@@ -26,6 +28,9 @@
 namespace fs = std::filesystem;
 
 namespace {
+
+using vdbi_test::listFolder;
+using vdbi_test::readText;
 
 using vdbi::InterfaceMesh;
 using vdbi::InterfacePatch;
@@ -121,14 +126,6 @@ twoCubes()
 // ---------------------------------------------------------------------------------------
 // Independent readers
 
-std::string
-readAll(const fs::path& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 template<typename T>
 T
@@ -169,7 +166,7 @@ struct SimpleMesh
 SimpleMesh
 readPly(const fs::path& path)
 {
-    const std::string data = readAll(path);
+    const std::string data = readText(path);
     SimpleMesh mesh;
     std::size_t pos = 0;
     std::size_t vertexCount = 0, faceCount = 0;
@@ -218,7 +215,7 @@ readPly(const fs::path& path)
 SimpleMesh
 readStl(const fs::path& path, std::string* header = nullptr)
 {
-    const std::string data = readAll(path);
+    const std::string data = readText(path);
     if (header) *header = data.substr(0, 80);
     std::size_t pos = 80;
     const std::uint32_t count = readLE<std::uint32_t>(data, pos);
@@ -311,7 +308,7 @@ struct VtpFile
 VtpFile
 readVtp(const fs::path& path)
 {
-    const std::string data = readAll(path);
+    const std::string data = readText(path);
     const std::size_t appended = data.find("<AppendedData encoding=\"raw\">");
     if (appended == std::string::npos) throw std::runtime_error("no raw AppendedData");
     const std::size_t base = data.find('_', appended) + 1;
@@ -415,37 +412,14 @@ toFloat(const openvdb::Vec3d& p)
     return {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
 }
 
-std::vector<std::string>
-listFolder(const fs::path& dir)
-{
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        names.push_back(entry.path().filename().string());
-    }
-    std::sort(names.begin(), names.end());
-    return names;
-}
-
 } // namespace
 
 class TestMeshWriter : public ::testing::Test
 {
 protected:
-    void SetUp() override
-    {
-        std::random_device rd;
-        mDir = fs::temp_directory_path()
-            / ("vdbi_mesh_writer_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-        fs::create_directories(mDir);
-    }
-    void TearDown() override
-    {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
-    }
-    std::string file(const std::string& name) const { return (mDir / name).string(); }
+    std::string file(const std::string& name) const { return mFolder.file(name); }
 
-    fs::path mDir;
+    vdbi_test::TempFolder mFolder;
 };
 
 TEST_F(TestMeshWriter, testTestMeshIsConsistent)
@@ -465,7 +439,7 @@ TEST_F(TestMeshWriter, testPlyRoundTrip)
 {
     const InterfaceMesh mesh = twoCubes();
     vdbi::writeInterfaceMesh(mesh, file("cubes.ply"));
-    EXPECT_EQ(listFolder(mDir), std::vector<std::string>{"cubes.ply"});
+    EXPECT_EQ(listFolder(mFolder.path()), std::vector<std::string>{"cubes.ply"});
 
     const SimpleMesh ply = readPly(file("cubes.ply"));
     ASSERT_GE(ply.headerLines.size(), 2u);
@@ -552,8 +526,8 @@ TEST_F(TestMeshWriter, testEmptyMesh)
     const VtpFile vtp = readVtp(file("empty.vtp"));
     EXPECT_EQ(vtp.numberOfPoints, 0u);
     EXPECT_EQ(vtp.numberOfPolys, 0u);
-    vdbi::writePerLabelSurfaces(mesh, mDir.string());
-    EXPECT_EQ(listFolder(mDir).size(), 3u);
+    vdbi::writePerLabelSurfaces(mesh, mFolder.path().string());
+    EXPECT_EQ(listFolder(mFolder.path()).size(), 3u);
 }
 
 TEST_F(TestMeshWriter, testUpperCaseExtension)
@@ -565,9 +539,9 @@ TEST_F(TestMeshWriter, testUpperCaseExtension)
 TEST_F(TestMeshWriter, testPerLabelStl)
 {
     const InterfaceMesh mesh = twoCubes();
-    vdbi::writePerLabelSurfaces(mesh, mDir.string(), "stl");
+    vdbi::writePerLabelSurfaces(mesh, mFolder.path().string(), "stl");
     // The background 0 is skipped; negative labels are spelled with an m.
-    EXPECT_EQ(listFolder(mDir), (std::vector<std::string>{"label_2.stl", "label_m3.stl"}));
+    EXPECT_EQ(listFolder(mFolder.path()), (std::vector<std::string>{"label_2.stl", "label_m3.stl"}));
 
     for (const std::string name : {"label_2.stl", "label_m3.stl"}) {
         std::string header;
@@ -586,8 +560,8 @@ TEST_F(TestMeshWriter, testPerLabelPly)
     const InterfaceMesh mesh = twoCubes();
     // With background -3 the surfaces of 0 and 2 are written instead; 0's is the outside of
     // the two cubes, so its outward orientation points into them: negative volume.
-    vdbi::writePerLabelSurfaces(mesh, mDir.string(), "ply", /*background=*/-3);
-    EXPECT_EQ(listFolder(mDir), (std::vector<std::string>{"label_0.ply", "label_2.ply"}));
+    vdbi::writePerLabelSurfaces(mesh, mFolder.path().string(), "ply", /*background=*/-3);
+    EXPECT_EQ(listFolder(mFolder.path()), (std::vector<std::string>{"label_0.ply", "label_2.ply"}));
 
     const SimpleMesh label2 = readPly(file("label_2.ply"));
     EXPECT_TRUE(label2.labels.empty());
@@ -609,9 +583,9 @@ TEST_F(TestMeshWriter, testPerLabelPly)
 TEST_F(TestMeshWriter, testPerLabelFormats)
 {
     const InterfaceMesh mesh = twoCubes();
-    vdbi::writePerLabelSurfaces(mesh, mDir.string(), ".STL");
-    EXPECT_EQ(listFolder(mDir), (std::vector<std::string>{"label_2.stl", "label_m3.stl"}));
-    EXPECT_THROW(vdbi::writePerLabelSurfaces(mesh, mDir.string(), "obj"), openvdb::ValueError);
+    vdbi::writePerLabelSurfaces(mesh, mFolder.path().string(), ".STL");
+    EXPECT_EQ(listFolder(mFolder.path()), (std::vector<std::string>{"label_2.stl", "label_m3.stl"}));
+    EXPECT_THROW(vdbi::writePerLabelSurfaces(mesh, mFolder.path().string(), "obj"), openvdb::ValueError);
 }
 
 TEST_F(TestMeshWriter, testMissingFolder)
@@ -629,7 +603,7 @@ TEST_F(TestMeshWriter, testMissingFolder)
                       std::string::npos) << e.what();
         }
     }
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 
     try {
         vdbi::writePerLabelSurfaces(mesh, file("missing"));
@@ -637,7 +611,7 @@ TEST_F(TestMeshWriter, testMissingFolder)
     } catch (const openvdb::IoError& e) {
         EXPECT_EQ(std::string(e.what()), "IoError: " + file("missing") + ": no such folder");
     }
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 }
 
 TEST_F(TestMeshWriter, testRenameFailureLeavesNothing)
@@ -652,7 +626,7 @@ TEST_F(TestMeshWriter, testRenameFailureLeavesNothing)
         EXPECT_EQ(std::string(e.what()).rfind("IoError: " + file("out.ply") + ": ", 0), 0u)
             << e.what();
     }
-    EXPECT_EQ(listFolder(mDir), std::vector<std::string>{"out.ply"});
+    EXPECT_EQ(listFolder(mFolder.path()), std::vector<std::string>{"out.ply"});
     EXPECT_TRUE(fs::is_directory(file("out.ply")));
 }
 
@@ -668,7 +642,7 @@ TEST_F(TestMeshWriter, testUnknownExtension)
             EXPECT_NE(what.find("unknown mesh format"), std::string::npos) << what;
         }
     }
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 }
 
 TEST_F(TestMeshWriter, testInvalidMesh)
@@ -679,7 +653,7 @@ TEST_F(TestMeshWriter, testInvalidMesh)
     mesh = twoCubes();
     mesh.patches.pop_back(); // triangles outside every patch
     EXPECT_THROW(vdbi::writeInterfaceMesh(mesh, file("bad.obj")), openvdb::ValueError);
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 }
 
 TEST_F(TestMeshWriter, testReplacesExistingFile)
@@ -690,7 +664,7 @@ TEST_F(TestMeshWriter, testReplacesExistingFile)
     }
     vdbi::writeInterfaceMesh(twoCubes(), file("cubes.ply"));
     EXPECT_EQ(readPly(file("cubes.ply")).triangles.size(), 22u);
-    EXPECT_EQ(listFolder(mDir), std::vector<std::string>{"cubes.ply"});
+    EXPECT_EQ(listFolder(mFolder.path()), std::vector<std::string>{"cubes.ply"});
 }
 
 TEST_F(TestMeshWriter, testAtomicFileBodyThrows)
@@ -700,7 +674,7 @@ TEST_F(TestMeshWriter, testAtomicFileBodyThrows)
         os << "{ \"half\": ";
         throw std::runtime_error("stop");
     }), std::runtime_error);
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 
     // The same with an existing target: it keeps its content.
     {
@@ -710,8 +684,8 @@ TEST_F(TestMeshWriter, testAtomicFileBodyThrows)
     EXPECT_THROW(vdbi::writeFileAtomically(file("report.json"), [](std::ostream&) {
         throw openvdb::ValueError("stop");
     }), openvdb::ValueError);
-    EXPECT_EQ(readAll(file("report.json")), "old");
-    EXPECT_EQ(listFolder(mDir), std::vector<std::string>{"report.json"});
+    EXPECT_EQ(readText(file("report.json")), "old");
+    EXPECT_EQ(listFolder(mFolder.path()), std::vector<std::string>{"report.json"});
 }
 
 TEST_F(TestMeshWriter, testAtomicFileCommitAndDiscard)
@@ -726,13 +700,13 @@ TEST_F(TestMeshWriter, testAtomicFileCommitAndDiscard)
         EXPECT_TRUE(out.isCommitted());
         EXPECT_FALSE(fs::exists(out.tempPath()));
     }
-    EXPECT_EQ(readAll(file("a.txt")), "hello\n");
+    EXPECT_EQ(readText(file("a.txt")), "hello\n");
     {
         vdbi::AtomicFile out(file("b.txt"));
         out.stream() << "never";
         // Destroyed without commit.
     }
-    EXPECT_EQ(listFolder(mDir), std::vector<std::string>{"a.txt"});
+    EXPECT_EQ(listFolder(mFolder.path()), std::vector<std::string>{"a.txt"});
 
     vdbi::AtomicFile failing(file("c.txt"));
     try {
@@ -740,7 +714,7 @@ TEST_F(TestMeshWriter, testAtomicFileCommitAndDiscard)
     } catch (const openvdb::IoError& e) {
         EXPECT_EQ(std::string(e.what()), "IoError: " + file("c.txt") + ": disk on fire");
     }
-    EXPECT_EQ(listFolder(mDir), std::vector<std::string>{"a.txt"});
+    EXPECT_EQ(listFolder(mFolder.path()), std::vector<std::string>{"a.txt"});
 }
 
 TEST_F(TestMeshWriter, testAtomicFileFailedStream)
@@ -750,7 +724,7 @@ TEST_F(TestMeshWriter, testAtomicFileFailedStream)
     out.stream() << "partial";
     out.stream().setstate(std::ios::badbit);
     EXPECT_THROW(out.commit(), openvdb::IoError);
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 }
 
 TEST_F(TestMeshWriter, testRemoveAllTemporaryFiles)
@@ -772,7 +746,11 @@ TEST_F(TestMeshWriter, testRemoveAllTemporaryFiles)
         } catch (const openvdb::IoError&) {
             refused = true;
         }
-        std::_Exit(removed && refused && listFolder(mDir).empty() ? 0 : 1);
+        const bool passed = removed && refused && listFolder(mFolder.path()).empty();
+        // _Exit skips the fixture's destructor: the child's own folder goes here.
+        std::error_code ec;
+        fs::remove_all(mFolder.path(), ec);
+        std::_Exit(passed ? 0 : 1);
     }, ::testing::ExitedWithCode(0), "");
-    EXPECT_TRUE(listFolder(mDir).empty());
+    EXPECT_TRUE(listFolder(mFolder.path()).empty());
 }

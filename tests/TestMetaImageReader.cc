@@ -3,6 +3,7 @@
 #include <vdbi/MetaImageReader.h>
 
 #include "support/TestData.h"
+#include "support/TestFiles.h"
 
 #include <openvdb/Exceptions.h>
 
@@ -27,32 +28,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Bytes = std::vector<unsigned char>;
+using vdbi_test::Bytes;
+using vdbi_test::expectError;
+using vdbi_test::readBytes;
+using vdbi_test::writeBytes;
+using vdbi_test::writeText;
 using vdbi::MetaElementType;
 
 const MetaElementType ALL_TYPES[] = {MetaElementType::UChar, MetaElementType::Char,
     MetaElementType::UShort, MetaElementType::Short, MetaElementType::UInt,
     MetaElementType::Int};
-
-Bytes
-readBytes(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void
-writeBytes(const std::string& path, const Bytes& bytes)
-{
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
-
-void
-writeText(const std::string& path, const std::string& text)
-{
-    writeBytes(path, Bytes(text.begin(), text.end()));
-}
 
 /// The extreme values of @a type and a spread of others, zeros (background) in between.
 std::int64_t
@@ -128,39 +113,12 @@ storedLabels(const openvdb::Int32Grid& grid)
     return labels;
 }
 
-template<typename E>
-void
-expectError(const std::function<void()>& read, const std::string& path, const std::string& word)
-{
-    try {
-        read();
-        ADD_FAILURE() << "no exception for " << path << " (expected '" << word << "')";
-    } catch (const E& e) {
-        const std::string message = e.what();
-        const std::size_t start = message.find(": ");
-        ASSERT_NE(start, std::string::npos) << message;
-        EXPECT_EQ(message.compare(start + 2, path.size(), path), 0) << message;
-        EXPECT_NE(message.find(word), std::string::npos) << message << " lacks '" << word << "'";
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "wrong exception type: " << e.what();
-    }
-}
-
 } // namespace
 
 class TestMetaImageReader : public ::testing::Test
 {
 protected:
-    void SetUp() override
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        mDir = fs::path(::testing::TempDir()) / (std::string("vdbi_TestMetaImageReader_")
-            + info->name() + "_" + std::to_string(std::random_device()()));
-        fs::create_directories(mDir);
-    }
-    void TearDown() override { fs::remove_all(mDir); }
-
-    std::string path(const std::string& name) const { return (mDir / name).string(); }
+    std::string path(const std::string& name) const { return mFolder.file(name); }
 
     /// The frog header with @a from replaced by @a to, its data file named absolutely.
     std::string frogHeader(const std::string& from = "", const std::string& to = "") const
@@ -209,7 +167,7 @@ protected:
         return this->path(name + ".mhd");
     }
 
-    fs::path mDir;
+    vdbi_test::TempFolder mFolder;
 };
 
 TEST_F(TestMetaImageReader, testFrog)

@@ -3,6 +3,7 @@
 #include <vdbi/VdbReader.h>
 
 #include "support/TestData.h"
+#include "support/TestFiles.h"
 
 #include <openvdb/Exceptions.h>
 #include <openvdb/io/File.h>
@@ -24,21 +25,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Bytes = std::vector<unsigned char>;
-
-Bytes
-readBytes(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void
-writeBytes(const std::string& path, const Bytes& bytes)
-{
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
+using vdbi_test::Bytes;
+using vdbi_test::expectError;
+using vdbi_test::readBytes;
+using vdbi_test::writeBytes;
 
 void
 writeGrids(const std::string& path, const openvdb::GridPtrVec& grids)
@@ -83,28 +73,6 @@ expectLabels(const openvdb::Int32Grid& grid, const std::string& name)
     EXPECT_EQ(tree.activeVoxelCount(), 2u + 128u * 128u * 128u);
 }
 
-template<typename E>
-void
-expectError(const std::function<void()>& read, const std::string& path,
-            const std::vector<std::string>& words)
-{
-    try {
-        read();
-        ADD_FAILURE() << "no exception for " << path;
-    } catch (const E& e) {
-        const std::string message = e.what();
-        const std::size_t start = message.find(": ");
-        ASSERT_NE(start, std::string::npos) << message;
-        EXPECT_EQ(message.compare(start + 2, path.size(), path), 0) << message;
-        for (const std::string& word : words) {
-            EXPECT_NE(message.find(word), std::string::npos) << message << " lacks '" << word
-                << "'";
-        }
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "wrong exception type: " << e.what();
-    }
-}
-
 } // namespace
 
 class TestVdbReader : public ::testing::Test
@@ -113,16 +81,11 @@ protected:
     void SetUp() override
     {
         openvdb::initialize();
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        mDir = fs::path(::testing::TempDir()) / (std::string("vdbi_TestVdbReader_")
-            + info->name() + "_" + std::to_string(std::random_device()()));
-        fs::create_directories(mDir);
     }
-    void TearDown() override { fs::remove_all(mDir); }
 
-    std::string path(const std::string& name) const { return (mDir / name).string(); }
+    std::string path(const std::string& name) const { return mFolder.file(name); }
 
-    fs::path mDir;
+    vdbi_test::TempFolder mFolder;
 };
 
 TEST_F(TestVdbReader, testInt32RoundTrip)

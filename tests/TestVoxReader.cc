@@ -3,6 +3,7 @@
 #include <vdbi/VoxReader.h>
 
 #include "support/TestData.h"
+#include "support/TestFiles.h"
 
 #include <openvdb/Exceptions.h>
 
@@ -24,21 +25,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Bytes = std::vector<unsigned char>;
-
-Bytes
-readBytes(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void
-writeBytes(const std::string& path, const Bytes& bytes)
-{
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
+using vdbi_test::Bytes;
+using vdbi_test::expectError;
+using vdbi_test::readBytes;
+using vdbi_test::writeBytes;
 
 void
 putInt32(Bytes& bytes, std::size_t offset, std::int32_t value)
@@ -105,26 +95,6 @@ storedLabels(const openvdb::Int32Grid& grid)
     return labels;
 }
 
-/// Runs @a read, which must throw @c E whose message names @a path first and contains @a word.
-template<typename E>
-void
-expectError(const std::function<void()>& read, const std::string& path, const std::string& word)
-{
-    try {
-        read();
-        ADD_FAILURE() << "no exception for " << path << " (expected '" << word << "')";
-    } catch (const E& e) {
-        const std::string message = e.what();
-        // what() is "IoError: <path>: <problem>".
-        const std::size_t start = message.find(": ");
-        ASSERT_NE(start, std::string::npos) << message;
-        EXPECT_EQ(message.compare(start + 2, path.size(), path), 0) << message;
-        EXPECT_NE(message.find(word), std::string::npos) << message << " lacks '" << word << "'";
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "wrong exception type: " << e.what();
-    }
-}
-
 } // namespace
 
 class TestVoxReader : public ::testing::Test
@@ -132,19 +102,13 @@ class TestVoxReader : public ::testing::Test
 protected:
     void SetUp() override
     {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        mDir = fs::path(::testing::TempDir()) / (std::string("vdbi_TestVoxReader_")
-            + info->name() + "_" + std::to_string(std::random_device()()));
-        fs::create_directories(mDir);
         mKnight = readBytes(vdbi_test::dataPath("chr_knight.vox"));
         ASSERT_EQ(mKnight.size(), 2688u);
     }
-    void TearDown() override { fs::remove_all(mDir); }
-
     /// Writes @a bytes to a file of the temporary folder and returns its path.
     std::string write(const std::string& name, const Bytes& bytes) const
     {
-        const std::string path = (mDir / name).string();
+        const std::string path = mFolder.file(name);
         writeBytes(path, bytes);
         return path;
     }
@@ -152,7 +116,7 @@ protected:
     // chr_knight.vox: MAIN at 8, SIZE at 20, XYZI at 44 (count at 56, voxels from 60).
     static constexpr std::size_t SIZE_OFFSET = 20, XYZI_OFFSET = 44, FIRST_VOXEL = 60;
 
-    fs::path mDir;
+    vdbi_test::TempFolder mFolder;
     Bytes mKnight;
 };
 
@@ -247,11 +211,11 @@ TEST_F(TestVoxReader, testSkipsOtherChunksAndVersion200)
 
 TEST_F(TestVoxReader, testMissingEmptyAndDirectory)
 {
-    const std::string missing = (mDir / "missing.vox").string();
+    const std::string missing = mFolder.file("missing.vox");
     expectError<openvdb::IoError>([&] { vdbi::readVox(missing); }, missing, "no such file");
     const std::string empty = this->write("empty.vox", Bytes());
     expectError<openvdb::IoError>([&] { vdbi::readVox(empty); }, empty, "empty");
-    const std::string dir = (mDir / "folder.vox").string();
+    const std::string dir = mFolder.file("folder.vox");
     fs::create_directories(dir);
     expectError<openvdb::IoError>([&] { vdbi::readVox(dir); }, dir, "directory");
 }
