@@ -4,6 +4,7 @@
 /// failed run leaves no file behind.
 
 #include "support/TestData.h"
+#include "support/TestFiles.h"
 
 #include <gtest/gtest.h>
 
@@ -24,6 +25,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using vdbi_test::listFolder;
+
+std::string
+readAll(const fs::path& path)
+{
+    return vdbi_test::readText(path.string());
+}
+
 struct CliResult
 {
     int status = -1;
@@ -41,30 +50,10 @@ shellQuote(const std::string& arg)
     return quoted + "'";
 }
 
-std::string
-readAll(const fs::path& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 bool
 contains(const std::string& text, const std::string& part)
 {
     return text.find(part) != std::string::npos;
-}
-
-std::vector<std::string>
-listFolder(const fs::path& dir)
-{
-    std::vector<std::string> names;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-        names.push_back(fs::relative(entry.path(), dir).string());
-    }
-    std::sort(names.begin(), names.end());
-    return names;
 }
 
 } // namespace
