@@ -2,11 +2,15 @@
 
 #include <vdbi/ReferenceSurface.h>
 
+#include <vdbi/Exceptions.h>
+
 #include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <string>
 
 namespace vdbi {
 
@@ -300,6 +304,80 @@ ReferenceSurface::triangleAt(std::uint32_t v) const
         return std::uint32_t(-1);
     }
     return m.vertexTriangles[m.triangleStart[v]];
+}
+
+
+PatchReference
+buildPatchReference(const InterfaceMesh& mesh, std::size_t patch, const FeatureCurves& curves,
+                    int iterations, const Vec3d& maxDisplacement)
+{
+    const InterfacePatch& info = mesh.patches[patch];
+    auto fail = [&](const char* problem) {
+        std::ostringstream os;
+        os << "reference surface of patch (" << info.a << ", " << info.b << "): " << problem;
+        throw TopologyError(os.str());
+    };
+    PatchReference result;
+    const std::size_t begin = info.firstTriangle, end = begin + info.triangleCount;
+    std::vector<std::uint32_t>& rawPoints = result.rawPoints;
+    rawPoints.reserve(3 * info.triangleCount);
+    for (std::size_t t = begin; t < end; ++t) {
+        for (int i = 0; i < 3; ++i) rawPoints.push_back(mesh.triangles[t][i]);
+    }
+    std::sort(rawPoints.begin(), rawPoints.end());
+    rawPoints.erase(std::unique(rawPoints.begin(), rawPoints.end()), rawPoints.end());
+    auto local = [&](std::uint32_t p) {
+        return std::uint32_t(std::lower_bound(rawPoints.begin(), rawPoints.end(), p)
+                             - rawPoints.begin());
+    };
+    result.triangles.resize(info.triangleCount);
+    for (std::size_t t = begin; t < end; ++t) {
+        const openvdb::Vec3I& tri = mesh.triangles[t];
+        result.triangles[t - begin] = openvdb::Vec3I(local(tri[0]), local(tri[1]), local(tri[2]));
+    }
+
+    const std::size_t n = rawPoints.size();
+    std::vector<Vec3d> original(n), points(n);
+    std::vector<std::uint8_t> fixed(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        original[i] = points[i] = mesh.points[rawPoints[i]];
+        fixed[i] = curves.junctionSample(rawPoints[i]) >= 0;
+    }
+    // A triangle edge whose reverse is in no triangle is a boundary edge; the boundary runs
+    // against it. Boundary points move onto their smoothed feature curve and stay there.
+    std::vector<std::uint64_t> directed;
+    directed.reserve(3 * result.triangles.size());
+    for (const openvdb::Vec3I& t : result.triangles) {
+        for (int i = 0; i < 3; ++i) {
+            directed.push_back(std::uint64_t(t[i]) << 32 | t[(i + 1) % 3]);
+        }
+    }
+    std::sort(directed.begin(), directed.end());
+    for (const std::uint64_t e : directed) {
+        const std::uint32_t v = std::uint32_t(e >> 32), u = std::uint32_t(e);
+        if (std::binary_search(directed.begin(), directed.end(), std::uint64_t(u) << 32 | v)) {
+            continue;
+        }
+        const FeatureEdge* edge = curves.findEdge(rawPoints[u], rawPoints[v]);
+        if (!edge) fail("a boundary edge is no feature edge");
+        const FeatureCurve& curve = curves.curves[edge->curve];
+        const bool forward = curve.points[edge->segment] == rawPoints[u];
+        points[u] = curve.smoothed[edge->segment + (forward ? 0 : 1)];
+        points[v] = curve.smoothed[edge->segment + (forward ? 1 : 0)];
+        fixed[u] = fixed[v] = 1;
+        result.curveDirections.emplace_back(edge->curve, forward);
+    }
+    auto& directions = result.curveDirections;
+    std::sort(directions.begin(), directions.end());
+    directions.erase(std::unique(directions.begin(), directions.end()), directions.end());
+    for (std::size_t i = 1; i < directions.size(); ++i) {
+        if (directions[i].first == directions[i - 1].first) {
+            fail("the boundary runs both ways along a curve");
+        }
+    }
+    smoothSurfacePoints(points, original, result.triangles, fixed, iterations, maxDisplacement);
+    result.surface.reset(new ReferenceSurface(std::move(points), result.triangles));
+    return result;
 }
 
 } // namespace vdbi

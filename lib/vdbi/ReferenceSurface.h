@@ -6,10 +6,14 @@
 #ifndef VDBI_REFERENCE_SURFACE_HAS_BEEN_INCLUDED
 #define VDBI_REFERENCE_SURFACE_HAS_BEEN_INCLUDED
 
+#include <vdbi/FeatureCurves.h>
+#include <vdbi/InterfaceMesh.h>
+
 #include <openvdb/Types.h>
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace vdbi {
@@ -94,6 +98,31 @@ private:
 openvdb::Vec3d closestPointOnTriangle(const openvdb::Vec3d& p, const openvdb::Vec3d& a,
                                       const openvdb::Vec3d& b, const openvdb::Vec3d& c,
                                       openvdb::Vec3d& barycentric);
+
+/// @brief One patch of an interface mesh in local numbering, with its reference surface.
+struct PatchReference
+{
+    /// InterfaceMesh point index of every local vertex, ascending.
+    std::vector<std::uint32_t> rawPoints;
+    /// The patch's triangles in local vertex indices, in their extracted order.
+    std::vector<openvdb::Vec3I> triangles;
+    /// The smoothed surface: local vertices, the boundary ones on the smoothed curves.
+    std::unique_ptr<ReferenceSurface> surface;
+    /// Every feature curve on the patch boundary, ascending, with true when the boundary
+    /// walked against the triangles' orientation (OpenMesh's boundary halfedges) runs from
+    /// the curve's first point to its last.
+    std::vector<std::pair<std::uint32_t, bool>> curveDirections;
+};
+
+/// @brief The reference surface of patch @a patch (ALGORITHM.md §5): its boundary points on
+/// their smoothed feature curves (fixed), the other points smoothed with smoothSurfacePoints()
+/// within @a maxDisplacement of the extracted staircase.
+/// @pre smoothFeatureCurves() ran on @a curves
+/// @throw vdbi::TopologyError if a boundary edge is no feature edge, or the boundary runs
+/// both ways along a curve
+PatchReference buildPatchReference(const InterfaceMesh& mesh, std::size_t patch,
+                                   const FeatureCurves& curves, int iterations,
+                                   const openvdb::Vec3d& maxDisplacement);
 
 } // namespace vdbi
 

@@ -30,6 +30,14 @@ struct RemeshOptions
     openvdb::util::NullInterrupter* interrupter = nullptr;
 };
 
+/// Wall seconds of the stages of one remeshPatches() run.
+struct RemeshStatistics
+{
+    double curveSeconds = 0.0;       ///< feature curves found, smoothed and resampled
+    double referenceSeconds = 0.0;   ///< the reference surfaces of all patches
+    double remeshingSeconds = 0.0;   ///< boundaries attached, rounds, output assembled
+};
+
 /// @brief Remeshes every patch to the target edge length, keeping every guarantee of the
 /// extraction: each patch a consistently oriented 2-manifold, patches sharing their boundary
 /// vertices exactly, the patches of every label a closed surface (ALGORITHM.md §5).
@@ -57,7 +65,9 @@ struct RemeshOptions
 /// @throw openvdb::ValueError if the edge length is not a finite number > 0
 /// @throw vdbi::TopologyError if the input is not a valid interface mesh
 /// @throw vdbi::Interrupted if the interrupter asks to stop
-InterfaceMesh remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options);
+/// @param statistics  if not null, receives the seconds per stage
+InterfaceMesh remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
+                            RemeshStatistics* statistics = nullptr);
 
 } // namespace vdbi
 

@@ -1,0 +1,427 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/IsotropicRemeshing.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace vdbi {
+
+namespace {
+
+using Vec3d = openvdb::Vec3d;
+using Point = TriMesh::Point;
+using VertexHandle = TriMesh::VertexHandle;
+using HalfedgeHandle = TriMesh::HalfedgeHandle;
+using EdgeHandle = TriMesh::EdgeHandle;
+using FaceHandle = TriMesh::FaceHandle;
+
+inline Point toPoint(const Vec3d& p) { return Point(p[0], p[1], p[2]); }
+inline Vec3d toVec(const Point& p) { return Vec3d(p[0], p[1], p[2]); }
+
+/// Squared distance from @a p to triangle (a, b, c).
+inline double
+distance2(const Point& p, const Point& a, const Point& b, const Point& c)
+{
+    Vec3d bary;
+    return (closestPointOnTriangle(toVec(p), toVec(a), toVec(b), toVec(c), bary) - toVec(p))
+        .lengthSqr();
+}
+
+/// The rounds on one patch; holds only the state of a round (valences, old positions).
+class IsotropicRemesher
+{
+public:
+    IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings)
+        : mPatch(patch), mMesh(patch.mesh()), mSettings(settings) {}
+
+    void splitLongEdges();
+    void collapseShortEdges();
+    void equalizeValences();
+    void removeCaps();
+    void tangentialRelaxation();
+    void projectToReference();
+
+private:
+    bool isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position);
+    bool isFlipAllowed(EdgeHandle e);
+
+    bool isLocked(VertexHandle v) const { return mPatch.isLocked(v); }
+    bool isFree(VertexHandle v) const { return mPatch.isFree(v); }
+    const Point& refNormal(VertexHandle v) const { return mPatch.refNormal(v); }
+    bool agrees(const Point& a, const Point& b, const Point& c, VertexHandle va,
+                VertexHandle vb, VertexHandle vc) const
+    {
+        return mPatch.agrees(a, b, c, va, vb, vc);
+    }
+    bool agrees(FaceHandle f) const { return mPatch.agrees(f); }
+    VertexHandle splitEdge(EdgeHandle e) { return mPatch.splitEdge(e); }
+
+    int targetValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 4 : 6; }
+    int minValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 2 : 3; }
+    int valence(VertexHandle v) const
+    {
+        return mValence.empty() ? int(mMesh.valence(v)) : mValence[v.idx()];
+    }
+    void countValences()
+    {
+        mValence.assign(mMesh.n_vertices(), 0);
+        for (const VertexHandle v : mMesh.vertices()) {
+            if (!mMesh.status(v).deleted()) mValence[v.idx()] = int(mMesh.valence(v));
+        }
+    }
+    /// Smallest cosine between the reference normal at @a v and at its neighbours.
+    double flatness(VertexHandle v) const
+    {
+        double f = 1.0;
+        for (const VertexHandle w : mMesh.vv_range(v)) f = std::min(f, refNormal(v) | refNormal(w));
+        return f;
+    }
+
+    RemeshingPatch& mPatch;
+    TriMesh& mMesh;
+    const RemeshSettings& mSettings;
+    std::vector<Point> mPrevious;   ///< positions before relaxation
+    /// Valence of every vertex, kept up to date during the collapse and flip passes.
+    std::vector<int> mValence;
+};
+
+
+void
+IsotropicRemesher::splitLongEdges()
+{
+    // Boundary edges are the curve samples' segments: never split.
+    bool changed = true;
+    for (int pass = 0; changed && pass < 10; ++pass) {
+        changed = false;
+        const std::size_t count = mMesh.n_edges();
+        for (std::size_t i = 0; i < count; ++i) {
+            const EdgeHandle e{int(i)};
+            if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
+            const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
+            const Point d = mMesh.point(mMesh.to_vertex_handle(h))
+                - mMesh.point(mMesh.from_vertex_handle(h));
+            if (d.sqrnorm() <= mSettings.high2) continue;
+            splitEdge(e);
+            changed = true;
+        }
+    }
+}
+
+
+bool
+IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position)
+{
+    const VertexHandle v0 = mMesh.from_vertex_handle(h), v1 = mMesh.to_vertex_handle(h);
+    if (!isFree(v0)) return false;   // boundary (sample) vertices never go
+    const Point p0 = mMesh.point(v0), p1 = mMesh.point(v1);
+    const bool moves = toMidpoint && isFree(v1);
+    position = moves ? (p0 + p1) * 0.5 : p1;
+    const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
+    const VertexHandle vr = mMesh.to_vertex_handle(
+        mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(h)));
+    // No edge longer than the split limit, no inner edge between two locked vertices. A
+    // vertex with only locked neighbours stays: it is the centre of a fan filling a small
+    // boundary loop, without it two patches on the same loop would become the same
+    // triangle.
+    bool lockedRing = true;
+    for (const VertexHandle w : mMesh.vv_range(v0)) {
+        lockedRing = lockedRing && isLocked(w);
+        if (w == v1 || w == vl || w == vr) continue;
+        if (isLocked(v1) && isLocked(w)) return false;
+        if ((mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
+    }
+    if (lockedRing) return false;
+    if (moves) {
+        for (const VertexHandle w : mMesh.vv_range(v1)) {
+            if (w != v0 && (mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
+        }
+    }
+    if (!mMesh.is_collapse_ok(h)) return false;   // link condition: stays a 2-manifold
+    // Keep every vertex at valence >= 3 inside (2 on the boundary): no degenerate fans, and a
+    // closed component stops at a tetrahedron.
+    if (valence(vl) - 1 < minValence(vl)) return false;
+    if (valence(vr) - 1 < minValence(vr)) return false;
+    if (valence(v1) + valence(v0) - 4 < minValence(v1)) return false;
+
+    // No triangle may fold over, and the points that go must stay close to the new surface.
+    // The kept vertex lies on every new face: a point that close passes without a search.
+    const double limit2 = mSettings.deviation2;
+    double near0 = (p0 - position).sqrnorm(), near1 = moves ? (p1 - position).sqrnorm() : 0.0;
+    for (const VertexHandle centre : {v0, v1}) {
+        if (centre == v1 && !moves) break;
+        for (const FaceHandle f : mMesh.vf_range(centre)) {
+            auto it = mMesh.cfv_iter(f);
+            VertexHandle c[3] = {*it, *++it, *++it};
+            int ends = 0;
+            for (int k = 0; k < 3; ++k) ends += (c[k] == v0 || c[k] == v1);
+            if (ends == 2) continue;   // removed with the edge
+            Point p[3];
+            for (int k = 0; k < 3; ++k) {
+                p[k] = (c[k] == v0 || c[k] == v1) ? position : mMesh.point(c[k]);
+            }
+            if (near0 > limit2) near0 = std::min(near0, distance2(p0, p[0], p[1], p[2]));
+            if (near1 > limit2) near1 = std::min(near1, distance2(p1, p[0], p[1], p[2]));
+            if (!agrees(f)) continue;   // was folded already
+            for (int k = 0; k < 3; ++k) if (c[k] == v0) c[k] = v1;
+            if (!agrees(p[0], p[1], p[2], c[0], c[1], c[2])) return false;
+        }
+    }
+    return std::max(near0, near1) <= limit2;
+}
+
+
+void
+IsotropicRemesher::collapseShortEdges()
+{
+    countValences();
+    const std::size_t count = mMesh.n_edges();
+    for (std::size_t i = 0; i < count; ++i) {
+        const EdgeHandle e{int(i)};
+        if (mMesh.status(e).deleted()) continue;
+        const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
+        const VertexHandle a = mMesh.from_vertex_handle(h), b = mMesh.to_vertex_handle(h);
+        if ((mMesh.point(a) - mMesh.point(b)).sqrnorm() >= mSettings.low2) continue;
+        if (!isFree(a) && !isFree(b)) continue;
+        // On flat ground both go to the midpoint (the paper's rule), removing the vertex of
+        // lower valence; on a crease or corner the sharper vertex stays where it is.
+        HalfedgeHandle first = h, second = mMesh.opposite_halfedge_handle(h);
+        const double fa = flatness(a), fb = flatness(b);
+        const bool flat = fa > mSettings.flatCos && fb > mSettings.flatCos;
+        if (flat ? valence(b) < valence(a) : fb > fa) std::swap(first, second);
+        for (const HalfedgeHandle g : {first, second}) {
+            Point position;
+            if (!isCollapseAllowed(g, flat, position)) continue;
+            const VertexHandle gone = mMesh.from_vertex_handle(g), kept = mMesh.to_vertex_handle(g);
+            const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(g));
+            const VertexHandle vr = mMesh.to_vertex_handle(
+                mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(g)));
+            mValence[kept.idx()] += mValence[gone.idx()] - 4;   // an inner edge: two faces go
+            --mValence[vl.idx()];
+            --mValence[vr.idx()];
+            mMesh.collapse(g);
+            mMesh.set_point(kept, position);
+            break;
+        }
+    }
+    mValence.clear();
+}
+
+
+bool
+IsotropicRemesher::isFlipAllowed(EdgeHandle e)
+{
+    if (mMesh.is_boundary(e) || !mMesh.is_flip_ok(e)) return false;
+    const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
+    const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
+    const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
+    const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
+    if (isLocked(c) && isLocked(d)) return false;
+    if (valence(v0) - 1 < minValence(v0) || valence(v1) - 1 < minValence(v1)) return false;
+    // Faces (v0, v1, c), (v1, v0, d) become (v0, d, c), (d, v1, c): neither may fold over.
+    const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
+                &pd = mMesh.point(d);
+    const int before = int(agrees(p0, p1, pc, v0, v1, c)) + int(agrees(p1, p0, pd, v1, v0, d));
+    const int after = int(agrees(p0, pd, pc, v0, d, c)) + int(agrees(pd, p1, pc, d, v1, c));
+    if (after < before || (before == 2 && after < 2)) return false;
+    // Across a ridge or valley the other diagonal cuts it off: keep the two surfaces close.
+    // Each diagonal's midpoint is on its own faces, so close midpoints need no search.
+    const Point oldMid = (p0 + p1) * 0.5, newMid = (pc + pd) * 0.5;
+    if ((oldMid - newMid).sqrnorm() <= mSettings.deviation2) return true;
+    const double oldToNew = std::min(distance2(oldMid, p0, pd, pc), distance2(oldMid, pd, p1, pc));
+    const double newToOld = std::min(distance2(newMid, p0, p1, pc), distance2(newMid, p1, p0, pd));
+    return std::max(oldToNew, newToOld) <= mSettings.deviation2;
+}
+
+
+void
+IsotropicRemesher::equalizeValences()
+{
+    countValences();
+    const std::size_t count = mMesh.n_edges();
+    for (std::size_t i = 0; i < count; ++i) {
+        const EdgeHandle e{int(i)};
+        if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
+        const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
+        const VertexHandle v[4] = {
+            mMesh.from_vertex_handle(h0), mMesh.to_vertex_handle(h0),
+            mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0)),
+            mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1))};
+        int before = 0, after = 0;
+        for (int k = 0; k < 4; ++k) {
+            const int val = mValence[v[k].idx()], target = targetValence(v[k]);
+            const int change = k < 2 ? -1 : 1;
+            before += (val - target) * (val - target);
+            after += (val + change - target) * (val + change - target);
+        }
+        if (after < before && isFlipAllowed(e)) {
+            mMesh.flip(e);
+            --mValence[v[0].idx()];
+            --mValence[v[1].idx()];
+            ++mValence[v[2].idx()];
+            ++mValence[v[3].idx()];
+        }
+    }
+    mValence.clear();
+}
+
+
+void
+IsotropicRemesher::removeCaps()
+{
+    // Flip an edge whose two opposite angles sum to more than 180 degrees (not Delaunay)
+    // when that raises the smaller of the two triangles' smallest angles: a cap (one angle
+    // near 180) becomes two better triangles. Valence stays the main criterion: only edges
+    // the flip helps geometrically are touched.
+    auto largestCos = [](const Point& a, const Point& b, const Point& c) {
+        const Point ab = (b - a).normalized(), bc = (c - b).normalized(),
+                    ca = (a - c).normalized();
+        return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});   // of the smallest angle
+    };
+    // Opposite angles C and D sum to more than 180 degrees iff sin(C + D) < 0; with
+    // u, v the edges seen from a corner: sin ~ |u x v|, cos ~ u . v (same positive scale).
+    auto sumExceedsPi = [](const Point& p0, const Point& p1, const Point& pc, const Point& pd) {
+        const Point uc = p0 - pc, vc = p1 - pc, ud = p0 - pd, vd = p1 - pd;
+        const double sinC = (uc % vc).norm(), cosC = uc | vc;
+        const double sinD = (ud % vd).norm(), cosD = ud | vd;
+        return sinC * cosD + cosC * sinD < 0.0;
+    };
+    const std::size_t count = mMesh.n_edges();
+    for (std::size_t i = 0; i < count; ++i) {
+        const EdgeHandle e{int(i)};
+        if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
+        const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
+        const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
+        const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
+        const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
+        const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
+                    &pd = mMesh.point(d);
+        if (!sumExceedsPi(p0, p1, pc, pd)) continue;
+        const double before = std::max(largestCos(p0, p1, pc), largestCos(p1, p0, pd));
+        const double after = std::max(largestCos(p0, pd, pc), largestCos(pd, p1, pc));
+        if (after < before && isFlipAllowed(e)) mMesh.flip(e);
+    }
+}
+
+
+void
+IsotropicRemesher::tangentialRelaxation()
+{
+    mPrevious.assign(mMesh.n_vertices(), Point(0, 0, 0));
+    std::vector<Point> moved(mMesh.n_vertices());
+    for (const VertexHandle v : mMesh.vertices()) {
+        const Point& p = mMesh.point(v);
+        mPrevious[v.idx()] = p;
+        moved[v.idx()] = p;
+        if (!isFree(v)) continue;
+        // Area-weighted centroid of the 1-ring's triangles, moved in the tangent plane only.
+        Point sum(0, 0, 0);
+        double area = 0.0;
+        for (const FaceHandle f : mMesh.vf_range(v)) {
+            auto it = mMesh.cfv_iter(f);
+            const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
+                        &c = mMesh.point(*++it);
+            const double w = ((b - a) % (c - a)).norm();
+            sum += (a + b + c) * (w / 3.0);
+            area += w;
+        }
+        if (!(area > 0.0)) continue;
+        Point d = sum / area - p;
+        const Point& n = refNormal(v);
+        d -= n * (d | n);
+        moved[v.idx()] = p + d;
+    }
+    for (const VertexHandle v : mMesh.vertices()) mMesh.set_point(v, moved[v.idx()]);
+}
+
+
+void
+IsotropicRemesher::projectToReference()
+{
+    const std::size_t count = mMesh.n_vertices();
+    std::vector<Point> normals(count);
+    std::vector<char> moved(count, 0);
+    for (const VertexHandle v : mMesh.vertices()) {
+        normals[v.idx()] = refNormal(v);
+        if (!isFree(v)) continue;
+        std::uint32_t& start = mPatch.refTriangle(v);
+        ReferenceSurface::Hit hit = mPatch.reference().closestPointNear(toVec(mMesh.point(v)), start);
+        // A move that turns the normal away from the vertex's anchor crosses a crease and
+        // would cut it off (vertices drift away from corners and tips): halve it, else stay.
+        const Point& anchor = mPatch.anchor(v);
+        if ((toPoint(hit.normal) | anchor) < mSettings.creaseCos) {
+            const Point half = (mMesh.point(v) + mPrevious[v.idx()]) * 0.5;
+            hit = mPatch.reference().closestPointNear(toVec(half), start);
+            if ((toPoint(hit.normal) | anchor) < mSettings.creaseCos) {
+                mMesh.set_point(v, mPrevious[v.idx()]);
+                continue;
+            }
+        }
+        moved[v.idx()] = 1;
+        start = hit.triangle;
+        mMesh.set_point(v, toPoint(hit.point));
+        mPatch.refNormal(v) = toPoint(hit.normal);
+    }
+    // Undo the moves that fold a triangle over or uncover the place the vertex left, until
+    // no move does (a serial sweep in vertex order: the same result every time).
+    auto agreedBefore = [&](FaceHandle f) {
+        auto it = mMesh.cfv_iter(f);
+        const VertexHandle a = *it, b = *++it, c = *++it;
+        const Point n = (mPrevious[b.idx()] - mPrevious[a.idx()])
+            % (mPrevious[c.idx()] - mPrevious[a.idx()]);
+        return (n | normals[a.idx()]) > 0.0 && (n | normals[b.idx()]) > 0.0
+            && (n | normals[c.idx()]) > 0.0;
+    };
+    std::vector<VertexHandle> check, next;
+    for (const VertexHandle v : mMesh.vertices()) if (moved[v.idx()]) check.push_back(v);
+    for (int round = 0; round < 20 && !check.empty(); ++round) {
+        next.clear();
+        for (const VertexHandle v : check) {
+            if (!moved[v.idx()]) continue;
+            bool keep = true;
+            // The vertex is on its new faces: a short move cannot uncover its old place.
+            double nearest2 = (mMesh.point(v) - mPrevious[v.idx()]).sqrnorm();
+            for (const FaceHandle f : mMesh.vf_range(v)) {
+                auto it = mMesh.cfv_iter(f);
+                const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
+                            &c = mMesh.point(*++it);
+                if (nearest2 > mSettings.deviation2) {
+                    nearest2 = std::min(nearest2, distance2(mPrevious[v.idx()], a, b, c));
+                }
+                if (!agrees(f) && agreedBefore(f)) keep = false;
+            }
+            if (keep && nearest2 <= mSettings.deviation2) continue;
+            moved[v.idx()] = 0;
+            mMesh.set_point(v, mPrevious[v.idx()]);
+            mPatch.refNormal(v) = normals[v.idx()];
+            // Its neighbours' faces changed: look at them again.
+            for (const VertexHandle w : mMesh.vv_range(v)) if (moved[w.idx()]) next.push_back(w);
+        }
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        check.swap(next);
+    }
+}
+
+} // namespace
+
+
+bool
+remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
+                    InterruptFlag& interrupt)
+{
+    IsotropicRemesher remesher(patch, settings);
+    for (int it = 0; it < settings.iterations; ++it) {
+        if (interrupt.poll()) return false;
+        remesher.splitLongEdges();
+        remesher.collapseShortEdges();
+        remesher.equalizeValences();
+        remesher.removeCaps();
+        remesher.tangentialRelaxation();
+        remesher.projectToReference();
+    }
+    return true;
+}
+
+} // namespace vdbi

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file vdbi/IsotropicRemeshing.h
+/// @brief The rounds of isotropic remeshing of one patch with a locked boundary (Botsch &
+/// Kobbelt 2004): split, collapse, flip, relax, project.
+
+#ifndef VDBI_ISOTROPIC_REMESHING_HAS_BEEN_INCLUDED
+#define VDBI_ISOTROPIC_REMESHING_HAS_BEEN_INCLUDED
+
+#include <vdbi/Interruption.h>
+#include <vdbi/PatchBoundary.h>
+
+#include <cmath>
+
+namespace vdbi {
+
+/// Numbers every round needs, derived once from RemeshOptions.
+struct RemeshSettings
+{
+    double target = 1.0;
+    double low2 = 0.0;             ///< (4/5 target)^2: shorter edges are collapsed
+    double high2 = 0.0;            ///< (4/3 target)^2: longer edges are split
+    int iterations = 10;
+    /// (Largest distance)^2 between a point of the surface before a collapse, flip or
+    /// relaxation move and the surface after it: keeps tips and thin parts from being eaten.
+    double deviation2 = 0.0;
+    /// A vertex whose reference normal differs from a neighbour's by more than this angle
+    /// sits on a crease or corner: it is kept in place of a flat neighbour when collapsing.
+    double flatCos = std::cos(20.0 * M_PI / 180.0);
+    /// A relaxation move that turns the reference normal by more than this angle crosses a
+    /// crease (it would cut the crease off): it is halved, else undone.
+    double creaseCos = std::cos(30.0 * M_PI / 180.0);
+};
+
+/// @brief Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than
+/// 4/5 (to the midpoint on flat ground, onto the sharper end on a crease), flip edges towards
+/// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
+/// smallest angle), tangential relaxation, projection onto the reference surface.
+/// @details Locked (boundary) vertices never move. No operation creates a non-manifold
+/// configuration, a folded triangle, an inner edge between two locked vertices, or takes the
+/// surface more than sqrt(deviation2) away from a point it had; no relaxation move drags a
+/// vertex across a crease. So the patch keeps its topology. Every loop runs in a fixed order
+/// (edge or vertex index): the result depends on the patch alone.
+/// @return false if the interrupter asked to stop (the patch is then unfinished)
+bool remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
+                         InterruptFlag& interrupt);
+
+} // namespace vdbi
+
+#endif // VDBI_ISOTROPIC_REMESHING_HAS_BEEN_INCLUDED
