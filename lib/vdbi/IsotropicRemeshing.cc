@@ -145,8 +145,11 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     if (valence(vr) - 1 < minValence(vr)) return false;
     if (valence(v1) + valence(v0) - 4 < minValence(v1)) return false;
 
-    // No triangle may fold over, and the points that go must stay close to the new surface.
-    // The kept vertex lies on every new face: a point that close passes without a search.
+    // No triangle may turn over or collapse, and the points that go must stay close to the new
+    // surface. Turning is judged against the triangle's own old normal, not the reference
+    // normals: those vary over the smoothed staircase by more than a triangle of two voxels
+    // does, and refused most collapses of short edges. The kept vertex lies on every new
+    // face: a point that close passes without a search.
     const double limit2 = mSettings.deviation2;
     double near0 = (p0 - position).sqrnorm(), near1 = moves ? (p1 - position).sqrnorm() : 0.0;
     for (const VertexHandle centre : {v0, v1}) {
@@ -163,9 +166,10 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
             }
             if (near0 > limit2) near0 = std::min(near0, distance2(p0, p[0], p[1], p[2]));
             if (near1 > limit2) near1 = std::min(near1, distance2(p1, p[0], p[1], p[2]));
-            if (!agrees(f)) continue;   // was folded already
-            for (int k = 0; k < 3; ++k) if (c[k] == v0) c[k] = v1;
-            if (!agrees(p[0], p[1], p[2], c[0], c[1], c[2])) return false;
+            if (!agrees(f)) continue;   // was folded already: may unfold
+            const Point before = (mMesh.point(c[1]) - mMesh.point(c[0]))
+                % (mMesh.point(c[2]) - mMesh.point(c[0]));
+            if ((before | ((p[1] - p[0]) % (p[2] - p[0]))) <= 0.0) return false;
         }
     }
     return std::max(near0, near1) <= limit2;
@@ -316,9 +320,21 @@ IsotropicRemesher::tangentialRelaxation()
         moved[v.idx()] = p;
         if (!isFree(v)) continue;
         // Area-weighted centroid of the 1-ring's triangles, moved in the tangent plane only.
+        // A vertex on a folded triangle (attaching the curve samples leaves some where the
+        // smoothed curve bulges out of a chord between samples) goes to the mean of its
+        // neighbours instead: inside its ring, which the weighted centroid need not be.
         Point sum(0, 0, 0);
         double area = 0.0;
+        bool folded = false;
+        for (const FaceHandle f : mMesh.vf_range(v)) folded = folded || !agrees(f);
+        if (folded) {
+            for (const VertexHandle w : mMesh.vv_range(v)) {
+                sum += mMesh.point(w);
+                area += 1.0;
+            }
+        }
         for (const FaceHandle f : mMesh.vf_range(v)) {
+            if (folded) break;
             auto it = mMesh.cfv_iter(f);
             const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
                         &c = mMesh.point(*++it);

@@ -36,10 +36,13 @@ struct RemeshSettings
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 /// smallest angle), tangential relaxation, projection onto the reference surface.
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
-/// configuration, a folded triangle, an inner edge between two locked vertices, or takes the
-/// surface more than sqrt(deviation2) away from a point it had; no relaxation move drags a
-/// vertex across a crease. So the patch keeps its topology. Every loop runs in a fixed order
-/// (edge or vertex index): the result depends on the patch alone.
+/// configuration, an inner edge between two locked vertices, or takes the surface more than
+/// sqrt(deviation2) away from a point it had; a collapse turns no triangle over (against its
+/// own old normal), a flip or projection folds none against the reference normals; no
+/// relaxation move drags a vertex across a crease, and a vertex on a folded triangle relaxes
+/// to the mean of its neighbours (unfolding what attaching the samples folded). So the patch
+/// keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
+/// depends on the patch alone.
 /// @return false if the interrupter asked to stop (the patch is then unfinished)
 bool remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
                          InterruptFlag& interrupt);
