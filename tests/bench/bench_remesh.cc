@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file bench/bench_remesh.cc
+/// @brief Remeshing of the frog (or another sample volume) at edge lengths of 1, 2 and 4
+/// voxels: wall seconds per stage (extraction, feature curves, reference surfaces,
+/// remeshing), CPU seconds of extraction + remeshing, triangles and the quality figures.
+/// @details Every figure is the median of --reps runs (default 3), all lengths interleaved
+/// round by round so that a change of load on a shared machine hits them alike. With --check
+/// the remeshed meshes also go through the independent checks of the tests (MeshChecker,
+/// closeness to the raw patches, triangle intersections) and the results are printed.
+///
+/// Usage: bench_remesh [--reps N] [--threads T] [--check] [--volume FILE] [LENGTH...]
+///        (lengths in voxels, default 1 2 4)
+
+#include "support/MeshChecker.h"
+#include "support/MeshIntersections.h"
+#include "support/MeshQuality.h"
+#include "support/TestData.h"
+
+#include <vdbi/Interfaces.h>
+#include <vdbi/LabelVolumeReader.h>
+#include <vdbi/Remeshing.h>
+
+#include <openvdb/openvdb.h>
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double
+seconds(Clock::time_point a, Clock::time_point b)
+{
+    return std::chrono::duration<double>(b - a).count();
+}
+
+/// CPU seconds of this process, all threads.
+double
+cpuSeconds()
+{
+    timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+double
+median(std::vector<double> v)
+{
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// The runs of one edge length.
+struct Runs
+{
+    double voxels = 1.0;
+    std::vector<double> extraction, curves, reference, remeshing, total, cpu;
+    vdbi::InterfaceMesh raw, remeshed;
+};
+
+} // namespace
+
+
+int
+main(int argc, char** argv)
+{
+    int reps = 3, threads = 0;
+    bool check = false;
+    std::string volume = vdbi_test::dataPath("frogtissue.mhd");
+    std::vector<double> lengths;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--check")) check = true;
+        else if (!std::strcmp(argv[i], "--volume") && i + 1 < argc) volume = argv[++i];
+        else lengths.push_back(std::atof(argv[i]));
+    }
+    if (lengths.empty()) lengths = {1.0, 2.0, 4.0};
+    std::unique_ptr<tbb::global_control> limit;
+    if (threads > 0) {
+        limit.reset(new tbb::global_control(tbb::global_control::max_allowed_parallelism,
+                                            std::size_t(threads)));
+    }
+
+    openvdb::initialize();
+    const openvdb::Int32Grid::Ptr grid = vdbi::readLabelVolume(volume);
+    const openvdb::Vec3d voxel = grid->voxelSize();
+    std::printf("%s: voxel %g x %g x %g, %d runs per length%s\n", volume.c_str(), voxel[0],
+                voxel[1], voxel[2], reps, threads > 0 ? "" : ", all threads");
+
+    std::vector<Runs> runs(lengths.size());
+    for (std::size_t l = 0; l < lengths.size(); ++l) runs[l].voxels = lengths[l];
+    for (int rep = 0; rep < reps; ++rep) {
+        for (Runs& r : runs) {
+            const double cpu0 = cpuSeconds();
+            const Clock::time_point t0 = Clock::now();
+            vdbi::InterfaceMesh raw = vdbi::extractInterfaces(*grid).mesh;
+            const Clock::time_point t1 = Clock::now();
+            vdbi::RemeshOptions options;
+            options.edgeLength = r.voxels * voxel[0];
+            options.voxelSize = voxel;
+            vdbi::RemeshStatistics stats;
+            vdbi::InterfaceMesh out = vdbi::remeshPatches(raw, options, &stats);
+            const Clock::time_point t2 = Clock::now();
+            r.cpu.push_back(cpuSeconds() - cpu0);
+            r.extraction.push_back(seconds(t0, t1));
+            r.curves.push_back(stats.curveSeconds);
+            r.reference.push_back(stats.referenceSeconds);
+            r.remeshing.push_back(stats.remeshingSeconds);
+            r.total.push_back(seconds(t0, t2));
+            r.raw = std::move(raw);
+            r.remeshed = std::move(out);
+        }
+    }
+
+    std::printf("\n%-8s %10s %8s %10s %10s %10s %10s\n", "length", "extraction", "curves",
+                "reference", "remeshing", "total wall", "total CPU");
+    for (const Runs& r : runs) {
+        std::printf("%-8g %10.2f %8.2f %10.2f %10.2f %10.2f %10.2f\n", r.voxels,
+                    median(r.extraction), median(r.curves), median(r.reference),
+                    median(r.remeshing), median(r.total), median(r.cpu));
+    }
+    std::printf("\n");
+    for (const Runs& r : runs) {
+        const vdbi_test::MeshQuality q = vdbi_test::measureMeshQuality(r.remeshed,
+                                                                       r.voxels * voxel[0]);
+        std::printf("%g voxels: %zu raw -> %s\n", r.voxels, r.raw.triangles.size(),
+                    q.summary().c_str());
+    }
+    if (!check) return 0;
+    std::printf("\n");
+    for (const Runs& r : runs) {
+        const vdbi_test::MeshReport report = vdbi_test::checkMesh(r.remeshed, false);
+        const vdbi_test::Closeness c = vdbi_test::measureCloseness(r.raw, r.remeshed, voxel);
+        const auto found = vdbi_test::findSelfIntersections(r.remeshed, r.voxels * voxel[0]);
+        std::printf("%g voxels: checker %s; closeness: vertex->raw %.3f, raw->remeshed %.3f "
+                    "voxels; intersections: %s\n", r.voxels, report.ok() ? "ok" :
+                    report.summary().c_str(), c.vertexToRaw, c.rawToOutput,
+                    found.empty() ? "none" : vdbi_test::describeIntersections(r.remeshed, found)
+                        .c_str());
+    }
+    return 0;
+}

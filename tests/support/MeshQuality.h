@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file support/MeshQuality.h
+/// @brief Shape figures of a triangle mesh, as the remeshing issue reports them: the
+/// smallest angle of every triangle, its radius ratio and the edge lengths against a target.
+
+#pragma once
+
+#include <vdbi/InterfaceMesh.h>
+
+#include <string>
+
+namespace vdbi_test {
+
+struct MeshQuality
+{
+    std::size_t triangles = 0, edges = 0;
+    double inRange = 0.0;   ///< fraction of edges within [0.5, 1.5] x target
+    /// Smallest angle of every triangle, in degrees: min, 1st percentile, median.
+    double minAngle = 0.0, angleP1 = 0.0, angleMedian = 0.0;
+    /// Radius ratio 2 r_in / r_circ of every triangle (1 for an equilateral one): min, 1st
+    /// percentile, median.
+    double radiusRatioMin = 0.0, radiusRatioP1 = 0.0, radiusRatioMedian = 0.0;
+
+    /// One line: "N triangles, edges in range X %, min angle ..., radius ratio ...".
+    std::string summary() const;
+};
+
+/// @brief Measures every triangle and every (undirected) edge of @a mesh.
+MeshQuality measureMeshQuality(const vdbi::InterfaceMesh& mesh, double target);
+
+} // namespace vdbi_test
