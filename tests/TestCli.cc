@@ -139,7 +139,7 @@ TEST_F(TestCli, testHelp)
             "--per-label-format", "--grid", "--threads", "--priority", "--separate",
             "--edge-length", "--iterations", "--no-remesh", "--stats", "--report",
             "-h,--help", "--version", ".vdb", ".vox", ".mhd", ".mha", ".ply", ".obj", ".vtp",
-            "Int64", "stl", "BoundaryLabels", "patch_A_B", "on unless --no-remesh", "Exit status"};
+            "Int64", "stl", "BoundaryLabels", "patch_A_B", "--remesh", "Exit status"};
         for (const std::string& e : expected) EXPECT_TRUE(contains(r.out, e)) << e;
     }
 }
@@ -411,23 +411,31 @@ jsonCount(const std::string& report, const std::string& key)
     return at == std::string::npos ? 0 : std::stoul(report.substr(at + key.size() + 4));
 }
 
-TEST_F(TestCli, testRemeshingIsTheDefault)
+TEST_F(TestCli, testRemeshingOnRequest)
 {
-    ASSERT_EQ(run({mKnight, "--report", "remeshed.json"}).status, 0);
-    ASSERT_EQ(run({mKnight, "--report", "coarse.json", "--edge-length", "3"}).status, 0);
-    ASSERT_EQ(run({mKnight, "--report", "raw.json", "--no-remesh"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "raw.json"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "kept.json", "--no-remesh"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "remeshed.json", "--remesh"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "coarse.json", "--remesh", "--edge-length", "3"}).status,
+        0);
+    const std::string raw = readAll(work("raw.json"));
+    const std::string kept = readAll(work("kept.json"));
     const std::string remeshed = readAll(work("remeshed.json"));
     const std::string coarse = readAll(work("coarse.json"));
-    const std::string raw = readAll(work("raw.json"));
+    EXPECT_FALSE(contains(raw, "\"name\": \"remeshing\""));
+    EXPECT_FALSE(contains(kept, "\"name\": \"remeshing\""));
     EXPECT_TRUE(contains(remeshed, "\"name\": \"remeshing\""));
     EXPECT_TRUE(contains(coarse, "\"name\": \"remeshing\""));
-    EXPECT_FALSE(contains(raw, "\"name\": \"remeshing\""));
+    EXPECT_EQ(jsonCount(kept, "triangles"), jsonCount(raw, "triangles"));
     // Same repair, so the same patches; a longer target edge gives fewer triangles.
     EXPECT_EQ(jsonCount(remeshed, "patches"), jsonCount(raw, "patches"));
     EXPECT_EQ(jsonCount(coarse, "patches"), jsonCount(raw, "patches"));
     EXPECT_GT(jsonCount(remeshed, "triangles"), 0u);
     EXPECT_NE(jsonCount(remeshed, "triangles"), jsonCount(raw, "triangles"));
     EXPECT_LT(jsonCount(coarse, "triangles"), jsonCount(remeshed, "triangles"));
+
+    snapshot();
+    expectUsageError({mKnight, "--stats", "--remesh", "--no-remesh"}, {"excludes"});
 }
 
 TEST_F(TestCli, testOptionsAccepted)

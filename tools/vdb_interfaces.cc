@@ -79,6 +79,7 @@ struct Settings
     std::vector<std::string> separate;
     double edgeLength = 0.0;
     int iterations = 10;
+    bool remesh = false;
     bool noRemesh = false;
     bool stats = false;
 };
@@ -224,10 +225,11 @@ const char* const FOOTER =
     "  --per-label writes DIR/label_L.stl or .ply (label_m3 for -3), one closed, outward\n"
     "  oriented surface per label but the background; DIR is created if missing.\n"
     "\n"
-    "Remeshing (on unless --no-remesh): every patch is remeshed towards --edge-length\n"
-    "(default one voxel) with its boundary curves smoothed and shared with its\n"
-    "neighbours, so the guarantees hold as for the raw extraction. --no-remesh keeps the\n"
-    "raw extraction: the voxel faces themselves, exact to the input, as staircases.\n"
+    "The output is the raw extraction by default: the voxel faces themselves, exact to the\n"
+    "input. --remesh remeshes every patch towards --edge-length (default one voxel) with\n"
+    "its boundary curves smoothed and shared with its neighbours: every patch stays a\n"
+    "manifold and every label closed, but triangles of neighbouring patches may still\n"
+    "cross where patches meet at sharp angles, so it is not yet the default.\n"
     "\n"
     "Files are written to a temporary name and renamed when complete: a failed or\n"
     "interrupted run never leaves a partial output.\n"
@@ -283,15 +285,18 @@ configure(CLI::App& app, Settings& s)
         ->allow_extra_args(false)
         ->check(CONSTRAINT);
     app.add_option("--edge-length", s.edgeLength,
-        "Remeshing: target edge length in world units,\nX > 0 (default: one voxel)")
+        "--remesh: target edge length in world units,\nX > 0 (default: one voxel)")
         ->type_name("X")
         ->check(POSITIVE_REAL);
     app.add_option("--iterations", s.iterations,
-        "Remeshing: number of iterations, N >= 0\n(default: 10)")
+        "--remesh: number of iterations, N >= 0\n(default: 10)")
         ->type_name("N")
         ->check(integerAtLeast(0));
+    CLI::Option* remesh = app.add_flag("--remesh", s.remesh,
+        "Remesh the patches towards --edge-length\n(smooth, no staircases; see below)");
     app.add_flag("--no-remesh", s.noRemesh,
-        "Keep the raw extraction (voxel faces, no\nremeshing)");
+        "Keep the raw extraction (the default)")
+        ->excludes(remesh);
     app.add_flag("--stats", s.stats,
         "Print statistics to stdout: labels, critical\nelements, subdivided voxels, patches,\n"
         "triangles, seconds per stage, peak memory");
@@ -502,7 +507,7 @@ run(const Settings& s)
         parseConstraint(text, options.repair.constraints.back());
     }
     options.repair.interrupter = progress.isEnabled() ? &progress : nullptr;
-    options.remesh = !s.noRemesh;
+    options.remesh = s.remesh;
     options.edgeLength = s.edgeLength;
     options.iterations = s.iterations;
 
