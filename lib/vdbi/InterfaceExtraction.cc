@@ -302,6 +302,7 @@ private:
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const int s = mS;
+        bool any = false;
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
                 Coord f;
@@ -310,11 +311,13 @@ private:
                 f[c] = s * v[c] + jc;
                 Coord g = f;
                 g[a] -= 1;
-                mFacePairs[jb * s + jc] = {fineLabel(g, lower, lowerSub),
-                                           fineLabel(f, upper, upperSub)};
+                const LabelPair pair{fineLabel(g, lower, lowerSub),
+                                     fineLabel(f, upper, upperSub)};
+                mFacePairs[jb * s + jc] = pair;
+                any = any || pair[0] != pair[1];
             }
         }
-        fineFaceGrid(Coord(s * local.x(), s * local.y(), s * local.z()), a);
+        if (any) fineFaceGrid(Coord(s * local.x(), s * local.y(), s * local.z()), a);
     }
 
     /// Emits the s x s fine faces at local fine point @a corner with normal @a a, whose label
@@ -390,13 +393,16 @@ private:
             const int b = (a + 1) % 3, c = (a + 2) % 3;
             // Planes t = 1 .. s-1 inside the voxel; t = 0 is the voxel's face: splitFace().
             for (int t = 1; t < s; ++t) {
+                bool any = false;
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
                         const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        mFacePairs[jb * s + jc] = {mFineLabels[idx - stride[a]],
-                                                   mFineLabels[idx]};
+                        const LabelPair pair{mFineLabels[idx - stride[a]], mFineLabels[idx]};
+                        mFacePairs[jb * s + jc] = pair;
+                        any = any || pair[0] != pair[1];
                     }
                 }
+                if (!any) continue; // no face in this plane
                 Coord corner(s * local.x(), s * local.y(), s * local.z());
                 corner[a] += t;
                 fineFaceGrid(corner, a);
