@@ -57,6 +57,7 @@ run(const openvdb::Int32Grid& grid, bool threaded = true)
                                             options);
     vdbi::ExtractionOptions extraction;
     extraction.threaded = threaded;
+    extraction.pointKeys = true; // the checker identifies vertices by their keys
     r.mesh = vdbi::extractInterfacePatches(r.refined, extraction);
     return r;
 }

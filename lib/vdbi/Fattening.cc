@@ -72,12 +72,35 @@ private:
     const LabelPriority* mPriority;
 };
 
-/// Merges @a from into @a into voxel by voxel; @a from is left empty or partly stolen.
+/// Moves the leaves of @a from into @a into; where @a into has a leaf already, @a combine
+/// (old value, new value) gives each voxel that both hold. Leaves @a from empty.
+template<typename Combine>
+void
+mergeLeaves(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const Combine& combine)
+{
+    using LeafT = openvdb::Int32Tree::LeafNodeType;
+    std::vector<LeafT*> leaves;
+    from.stealNodes(leaves);
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(into);
+    for (LeafT* leaf : leaves) {
+        LeafT* target = acc.probeLeaf(leaf->origin());
+        if (!target) {
+            acc.addLeaf(leaf);
+            continue;
+        }
+        for (auto it = leaf->cbeginValueOn(); it; ++it) {
+            const openvdb::Index i = it.pos();
+            target->setValueOn(i, target->isValueOn(i) ? combine(target->getValue(i), *it) : *it);
+        }
+        delete leaf;
+    }
+}
+
+/// Merges @a from into @a into by priority; leaves @a from empty.
 void
 mergeByPriority(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const LabelPriority& p)
 {
-    PriorityWriter writer(into, p);
-    for (auto it = from.cbeginValueOn(); it; ++it) writer.write(it.getCoord(), *it);
+    mergeLeaves(into, from, [&p](Label a, Label b) { return p.pick(a, b); });
 }
 
 /// Relabels N_k of every element of one kind; returns the labels written (active voxels).
@@ -108,12 +131,11 @@ relabelPass(const std::vector<Element>& elements, int s, int k, const RepairOpti
     return result;
 }
 
-/// Later passes overwrite earlier ones.
+/// Later passes overwrite earlier ones; leaves @a from empty.
 void
-overwrite(openvdb::Int32Tree& into, const openvdb::Int32Tree& from)
+overwrite(openvdb::Int32Tree& into, openvdb::Int32Tree& from)
 {
-    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(into);
-    for (auto it = from.cbeginValueOn(); it; ++it) acc.setValueOn(it.getCoord(), *it);
+    mergeLeaves(into, from, [](Label, Label later) { return later; });
 }
 
 /// Marks the coarse voxels whose closed cubes touch an element: [lo - 1, hi] per axis.

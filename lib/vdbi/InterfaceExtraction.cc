@@ -5,10 +5,13 @@
 #include <vdbi/Interruption.h>
 #include <vdbi/LabelWindow.h>
 
+#include <openvdb/Exceptions.h>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -58,89 +61,106 @@ private:
     bool mOn[DIM * DIM * DIM];
 };
 
+/// A vertex key relative to the block that emits it: the key minus 2s * (block origin). Its
+/// components lie in [0, 8 * 2s] (at most 112 for s = 7), packed 8 bits each as
+/// x << 16 | y << 8 | z, so the keys of one block compare and sort like their global keys.
+using LocalKey = std::uint32_t;
+
+/// What one key unit along x, y, z adds to a LocalKey.
+constexpr std::int32_t KEY_UNIT[3] = {1 << 16, 1 << 8, 1};
+
+int
+keyComponent(LocalKey k, int axis)
+{
+    return int((k >> (16 - 8 * axis)) & 0xFFu);
+}
+
 /// Triangles of one block, before vertices are numbered globally.
 struct BlockMesh
 {
-    std::vector<VertexKey> keys;            ///< distinct corner keys, in order of first use
+    std::vector<LocalKey> keys;             ///< distinct corner keys, in order of first use
     std::vector<std::uint32_t> corners;     ///< 3 per triangle: indices into keys
     std::vector<LabelPair> patches;         ///< distinct label pairs, in order of first use
     std::vector<std::uint32_t> patchOf;     ///< per triangle: index into patches
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
-    std::vector<VertexKey> owned;           ///< keys this block numbers (see ownerOf), sorted
-    std::vector<std::uint32_t> global;      ///< global index of every entry of keys
+    /// A key on the block's max faces is numbered by the neighbour at origin + 8d, where bit a
+    /// of d says the key is on the max face along a: handedOver[d] holds these keys in that
+    /// neighbour's local coordinates (d = 0: unused).
+    std::array<std::vector<LocalKey>, 8> handedOver;
+    std::vector<LocalKey> owned;            ///< keys this block numbers, sorted
 };
 
 /// Open-addressing map from the keys of one block to their indices in BlockMesh::keys.
 class KeyIndex
 {
 public:
-    void reset(std::vector<VertexKey>& keys)
+    /// Starts a block; empties the slots of the previous one, latest first, so that every
+    /// probe chain is intact while its key is looked up.
+    void reset(std::vector<LocalKey>& keys)
     {
+        if (mSlots.empty()) {
+            mSlots.assign(std::size_t(1) << 12, Slot{EMPTY, 0});
+            mShift = 32 - 12;
+        } else if (mKeys) {
+            for (auto k = mKeys->rbegin(); k != mKeys->rend(); ++k) mSlots[find(*k)].key = EMPTY;
+        }
         mKeys = &keys;
-        if (mSlots.empty()) mSlots.assign(1 << 12, 0);
-        else std::fill(mSlots.begin(), mSlots.end(), 0u);
     }
 
-    std::uint32_t insert(const VertexKey& k)
+    std::uint32_t insert(LocalKey k)
     {
-        if (2 * (mKeys->size() + 1) > mSlots.size()) grow();
-        std::size_t h = slotOf(k);
-        while (mSlots[h] != 0) {
-            if ((*mKeys)[mSlots[h] - 1] == k) return mSlots[h] - 1;
-            h = (h + 1) & (mSlots.size() - 1);
-        }
+        const std::size_t h = find(k);
+        if (mSlots[h].key == k) return mSlots[h].index;
+        const auto index = std::uint32_t(mKeys->size());
         mKeys->push_back(k);
-        mSlots[h] = std::uint32_t(mKeys->size());
-        return mSlots[h] - 1;
+        mSlots[h] = Slot{k, index};
+        if (2 * mKeys->size() > mSlots.size()) grow();
+        return index;
     }
 
 private:
-    std::size_t slotOf(const VertexKey& k) const
+    struct Slot
     {
-        std::uint64_t h = std::uint64_t(k[0]) * 0x9E3779B97F4A7C15ull;
-        h ^= std::uint64_t(k[1]) * 0xC2B2AE3D27D4EB4Full + (h >> 29);
-        h ^= std::uint64_t(k[2]) * 0x165667B19E3779F9ull + (h >> 32);
-        h ^= h >> 31;
-        return std::size_t(h) & (mSlots.size() - 1);
+        LocalKey key;
+        std::uint32_t index;
+    };
+    static constexpr LocalKey EMPTY = ~LocalKey(0);
+
+    /// The slot holding @a k, or the empty slot where it would go.
+    std::size_t find(LocalKey k) const
+    {
+        std::size_t h = std::uint32_t(k * 0x9E3779B1u) >> mShift; // Fibonacci hashing
+        while (mSlots[h].key != EMPTY && mSlots[h].key != k) h = (h + 1) & (mSlots.size() - 1);
+        return h;
     }
 
     void grow()
     {
-        mSlots.assign(mSlots.size() * 2, 0);
+        mSlots.assign(mSlots.size() * 2, Slot{EMPTY, 0});
+        --mShift;
         for (std::size_t i = 0; i < mKeys->size(); ++i) {
-            std::size_t h = slotOf((*mKeys)[i]);
-            while (mSlots[h] != 0) h = (h + 1) & (mSlots.size() - 1);
-            mSlots[h] = std::uint32_t(i + 1);
+            mSlots[find((*mKeys)[i])] = Slot{(*mKeys)[i], std::uint32_t(i)};
         }
     }
 
-    std::vector<std::uint32_t> mSlots; ///< index + 1 into *mKeys, 0 = empty
-    std::vector<VertexKey>* mKeys = nullptr;
+    std::vector<Slot> mSlots;
+    int mShift = 0;
+    std::vector<LocalKey>* mKeys = nullptr;
 };
 
-/// A key with component @a ka along axis @a a and kb, kc along the next two axes (cyclic).
-VertexKey
-keyOf(int a, std::int64_t ka, std::int64_t kb, std::int64_t kc)
+/// The local key with components @a ka along axis @a a and kb, kc along the next two (cyclic).
+LocalKey
+keyOf(int a, int ka, int kb, int kc)
 {
-    VertexKey k;
-    k[a] = ka;
-    k[(a + 1) % 3] = kb;
-    k[(a + 2) % 3] = kc;
-    return k;
-}
-
-std::int64_t
-floorDiv64(std::int64_t a, std::int64_t b)
-{
-    const std::int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
+    return LocalKey(ka * KEY_UNIT[a] + kb * KEY_UNIT[(a + 1) % 3] + kc * KEY_UNIT[(a + 2) % 3]);
 }
 
 /// Emits the faces owned by the voxels of one block (face (v, a) is owned by voxel v).
+/// Probes use global coordinates, keys the block's local ones.
 class FaceWalker
 {
 public:
-    FaceWalker(const RefinedLabels& labels)
+    explicit FaceWalker(const RefinedLabels& labels)
         : mS(labels.subdivision)
         , mFine(labels.fine->tree())
         , mFineLabels(std::size_t(mS) * mS * mS)
@@ -160,18 +180,19 @@ public:
                 for (int k = 0; k < BLOCK_DIM; ++k) {
                     const Coord v = o.offsetBy(i, j, k);
                     if (clipped && !owners.isInside(v)) continue;
+                    const Coord local(i, j, k);
                     const int flat = LabelWindow::index(i + 1, j + 1, k + 1);
                     const Label upper = w.data()[flat];
                     const bool upperSub = mask && mask->at(flat);
-                    if (upperSub) interiorFaces(v, upper);
+                    if (upperSub) interiorFaces(v, local, upper);
                     for (int a = 0; a < 3; ++a) {
                         const int lowerFlat = flat - LabelWindow::STRIDE[a];
                         const Label lower = w.data()[lowerFlat];
                         const bool lowerSub = mask && mask->at(lowerFlat);
                         if (upperSub || lowerSub) {
-                            splitFace(v, a, lower, lowerSub, upper, upperSub);
+                            splitFace(v, local, a, lower, lowerSub, upper, upperSub);
                         } else if (lower != upper) {
-                            coarseFace(v, a, lower, upper, flat, mask);
+                            coarseFace(local, a, lower, upper, flat, mask);
                         }
                     }
                 }
@@ -180,33 +201,56 @@ public:
     }
 
 private:
-    /// Appends the triangles of a polygon given counter-clockwise seen from +a: as a fan
-    /// around @a centre, or (no centre, 4 corners) as two triangles.
-    void emitTriangle(const VertexKey& p, const VertexKey& q, const VertexKey& r,
-                      Label lower, Label upper)
+    /// Makes (lower, upper) the patch of the next triangles; +axis points lower -> upper.
+    void setPatch(Label lower, Label upper)
     {
-        // Patch (a, b) with a < b has its normal from a into b; +axis points lower -> upper.
-        const bool up = lower < upper;
-        const LabelPair pair = up ? LabelPair{lower, upper} : LabelPair{upper, lower};
+        // Patch (a, b) with a < b has its normal from a into b.
+        mUp = lower < upper;
+        const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
         if (mOut->patches.empty() || mOut->patches[mLastPatch] != pair) {
             const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
-            mLastPatch = std::size_t(it - mOut->patches.begin());
+            mLastPatch = std::uint32_t(it - mOut->patches.begin());
             if (it == mOut->patches.end()) mOut->patches.push_back(pair);
         }
-        mOut->patchOf.push_back(std::uint32_t(mLastPatch));
-        mOut->corners.push_back(mIndex.insert(p));
-        mOut->corners.push_back(mIndex.insert(up ? q : r));
-        mOut->corners.push_back(mIndex.insert(up ? r : q));
     }
 
-    void emitQuad(const VertexKey (&c)[4], Label lower, Label upper)
+    /// Appends a triangle given counter-clockwise seen from +axis, by key indices.
+    void triangle(std::uint32_t p, std::uint32_t q, std::uint32_t r)
     {
-        emitTriangle(c[0], c[1], c[2], lower, upper);
-        emitTriangle(c[0], c[2], c[3], lower, upper);
+        mOut->patchOf.push_back(mLastPatch);
+        mOut->corners.push_back(p);
+        mOut->corners.push_back(mUp ? q : r);
+        mOut->corners.push_back(mUp ? r : q);
+    }
+
+    /// Two triangles of a quad given counter-clockwise seen from +axis.
+    void quad(LocalKey c0, LocalKey c1, LocalKey c2, LocalKey c3)
+    {
+        const std::uint32_t i0 = mIndex.insert(c0), i2 = mIndex.insert(c2);
+        triangle(i0, mIndex.insert(c1), i2);
+        triangle(i0, i2, mIndex.insert(c3));
+    }
+
+    /// A fan from @a centre around the boundary that starts at @a start and takes pieces[side]
+    /// steps of step[side] along each of its four sides (counter-clockwise seen from +axis).
+    void fan(LocalKey centre, LocalKey start, const int (&pieces)[4],
+             const std::int32_t (&step)[4])
+    {
+        const std::uint32_t c = mIndex.insert(centre);
+        LocalKey p = start;
+        std::uint32_t ip = mIndex.insert(p);
+        for (int side = 0; side < 4; ++side) {
+            for (int n = 0; n < pieces[side]; ++n) {
+                p = LocalKey(std::int32_t(p) + step[side]);
+                const std::uint32_t iq = mIndex.insert(p);
+                triangle(c, ip, iq);
+                ip = iq;
+            }
+        }
     }
 
     /// A coarse face between two voxels that are not subdivided.
-    void coarseFace(const Coord& v, int a, Label lower, Label upper, int flat,
+    void coarseFace(const Coord& local, int a, Label lower, Label upper, int flat,
                     const MaskWindow* mask)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -224,43 +268,28 @@ private:
                 split[3] = split[3] || mask->at(f) || mask->at(f - sb);
             }
         }
+        const int K = 2 * mS; // key units per coarse voxel
+        const LocalKey corner = keyOf(a, K * local[a], K * local[b], K * local[c]);
+        const std::int32_t ub = KEY_UNIT[b], uc = KEY_UNIT[c];
+        setPatch(lower, upper);
         if (split[0] || split[1] || split[2] || split[3]) {
-            fan(v, a, split, lower, upper);
+            // The paper's rule: a fan from the face centre to all boundary points, s + 1
+            // of them along each split side.
+            int pieces[4];
+            std::int32_t step[4];
+            const std::int32_t dir[4] = {2 * ub, 2 * uc, -2 * ub, -2 * uc};
+            for (int side = 0; side < 4; ++side) {
+                pieces[side] = split[side] ? mS : 1;
+                step[side] = dir[side] * (split[side] ? 1 : mS);
+            }
+            fan(corner + LocalKey(mS * (ub + uc)), corner, pieces, step);
             return;
         }
-        const std::int64_t K = 2 * mS; // key units per coarse voxel
-        const std::int64_t va = K * v[a], vb = K * v[b], vc = K * v[c];
-        const VertexKey corner[4] = {keyOf(a, va, vb, vc), keyOf(a, va, vb + K, vc),
-            keyOf(a, va, vb + K, vc + K), keyOf(a, va, vb, vc + K)};
-        emitQuad(corner, lower, upper);
+        quad(corner, corner + LocalKey(K * ub), corner + LocalKey(K * (ub + uc)),
+             corner + LocalKey(K * uc));
     }
 
-    /// The paper's rule for a coarse face with a split side: a fan from the face centre to
-    /// all boundary points, s + 1 of them along each split side.
-    void fan(const Coord& v, int a, const bool (&split)[4], Label lower, Label upper)
-    {
-        const int b = (a + 1) % 3, c = (a + 2) % 3;
-        const std::int64_t K = 2 * mS;
-        const std::int64_t va = K * v[a], vb = K * v[b], vc = K * v[c];
-        const VertexKey corner[4] = {keyOf(a, va, vb, vc), keyOf(a, va, vb + K, vc),
-            keyOf(a, va, vb + K, vc + K), keyOf(a, va, vb, vc + K)};
-        const VertexKey centre = keyOf(a, va, vb + mS, vc + mS);
-        const std::int64_t step[4][2] = {{2, 0}, {0, 2}, {-2, 0}, {0, -2}};
-        for (int side = 0; side < 4; ++side) {
-            const int pieces = split[side] ? mS : 1;
-            const std::int64_t scale = split[side] ? 1 : mS;
-            VertexKey p = corner[side];
-            for (int n = 0; n < pieces; ++n) {
-                VertexKey q = p;
-                q[b] += step[side][0] * scale;
-                q[c] += step[side][1] * scale;
-                emitTriangle(centre, p, q, lower, upper);
-                p = q;
-            }
-        }
-    }
-
-    /// Label of fine voxel @a f inside coarse voxel @a u.
+    /// Label of fine voxel @a f inside a coarse voxel labelled @a coarse.
     Label fineLabel(const Coord& f, Label coarse, bool subdivided)
     {
         Label l;
@@ -268,11 +297,12 @@ private:
     }
 
     /// A coarse face next to a subdivided voxel: its s x s fine faces, each on its own.
-    void splitFace(const Coord& v, int a, Label lower, bool lowerSub, Label upper,
-                   bool upperSub)
+    void splitFace(const Coord& v, const Coord& local, int a, Label lower, bool lowerSub,
+                   Label upper, bool upperSub)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const int s = mS;
+        bool any = false;
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
                 Coord f;
@@ -281,14 +311,16 @@ private:
                 f[c] = s * v[c] + jc;
                 Coord g = f;
                 g[a] -= 1;
-                mFacePairs[jb * s + jc] = {fineLabel(g, lower, lowerSub),
-                                           fineLabel(f, upper, upperSub)};
+                const LabelPair pair{fineLabel(g, lower, lowerSub),
+                                     fineLabel(f, upper, upperSub)};
+                mFacePairs[jb * s + jc] = pair;
+                any = any || pair[0] != pair[1];
             }
         }
-        fineFaceGrid(Coord(s * v.x(), s * v.y(), s * v.z()), a);
+        if (any) fineFaceGrid(Coord(s * local.x(), s * local.y(), s * local.z()), a);
     }
 
-    /// Emits the s x s fine faces at fine point @a corner with normal @a a, whose label
+    /// Emits the s x s fine faces at local fine point @a corner with normal @a a, whose label
     /// pairs (lower, upper) are in mFacePairs (index jb * s + jc along the next two axes).
     /// @details Faces with the same pair are merged greedily into rectangles, each a fan
     /// from its centre to all fine points on its boundary: the same surface in fewer
@@ -325,40 +357,27 @@ private:
                    Label lower, Label upper)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
-        const std::int64_t ka = 2 * std::int64_t(corner[a]);
-        const std::int64_t kb = 2 * (std::int64_t(corner[b]) + jb);
-        const std::int64_t kc = 2 * (std::int64_t(corner[c]) + jc);
-        const VertexKey quad[4] = {keyOf(a, ka, kb, kc), keyOf(a, ka, kb + 2 * h, kc),
-            keyOf(a, ka, kb + 2 * h, kc + 2 * w), keyOf(a, ka, kb, kc + 2 * w)};
+        const std::int32_t ub = KEY_UNIT[b], uc = KEY_UNIT[c];
+        const LocalKey base = keyOf(a, 2 * corner[a], 2 * (corner[b] + jb),
+                                    2 * (corner[c] + jc));
+        setPatch(lower, upper);
         if (w * h <= w + h) { // a fan would not be smaller than the quads
             for (int x = 0; x < h; ++x) {
                 for (int y = 0; y < w; ++y) {
-                    const VertexKey q[4] = {keyOf(a, ka, kb + 2 * x, kc + 2 * y),
-                        keyOf(a, ka, kb + 2 * x + 2, kc + 2 * y),
-                        keyOf(a, ka, kb + 2 * x + 2, kc + 2 * y + 2),
-                        keyOf(a, ka, kb + 2 * x, kc + 2 * y + 2)};
-                    emitQuad(q, lower, upper);
+                    const LocalKey q = base + LocalKey(2 * x * ub + 2 * y * uc);
+                    quad(q, q + LocalKey(2 * ub), q + LocalKey(2 * (ub + uc)),
+                         q + LocalKey(2 * uc));
                 }
             }
             return;
         }
-        const VertexKey centre = keyOf(a, ka, kb + h, kc + w);
         const int pieces[4] = {h, w, h, w};
-        const std::int64_t step[4][2] = {{2, 0}, {0, 2}, {-2, 0}, {0, -2}};
-        for (int side = 0; side < 4; ++side) {
-            VertexKey p = quad[side];
-            for (int n = 0; n < pieces[side]; ++n) {
-                VertexKey q = p;
-                q[b] += step[side][0];
-                q[c] += step[side][1];
-                emitTriangle(centre, p, q, lower, upper);
-                p = q;
-            }
-        }
+        const std::int32_t step[4] = {2 * ub, 2 * uc, -2 * ub, -2 * uc};
+        fan(base + LocalKey(h * ub + w * uc), base, pieces, step);
     }
 
     /// Fine faces inside subdivided voxel @a v, between its own subvoxels.
-    void interiorFaces(const Coord& v, Label coarse)
+    void interiorFaces(const Coord& v, const Coord& local, Label coarse)
     {
         const int s = mS;
         const Coord base(s * v.x(), s * v.y(), s * v.z());
@@ -374,14 +393,17 @@ private:
             const int b = (a + 1) % 3, c = (a + 2) % 3;
             // Planes t = 1 .. s-1 inside the voxel; t = 0 is the voxel's face: splitFace().
             for (int t = 1; t < s; ++t) {
+                bool any = false;
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
                         const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        mFacePairs[jb * s + jc] = {mFineLabels[idx - stride[a]],
-                                                   mFineLabels[idx]};
+                        const LabelPair pair{mFineLabels[idx - stride[a]], mFineLabels[idx]};
+                        mFacePairs[jb * s + jc] = pair;
+                        any = any || pair[0] != pair[1];
                     }
                 }
-                Coord corner = base;
+                if (!any) continue; // no face in this plane
+                Coord corner(s * local.x(), s * local.y(), s * local.z());
                 corner[a] += t;
                 fineFaceGrid(corner, a);
             }
@@ -395,7 +417,8 @@ private:
     std::vector<char> mUsed;
     KeyIndex mIndex;
     BlockMesh* mOut = nullptr;
-    std::size_t mLastPatch = 0;
+    std::uint32_t mLastPatch = 0;
+    bool mUp = true;
 };
 
 /// Leaf origins of both trees; blocks are these leaves and their + neighbours.
@@ -416,18 +439,26 @@ extractionBlocks(const RefinedLabels& labels, bool threaded)
     return origins;
 }
 
+/// Runs @a body(range) over chunks of [0, n), polling the interrupter once per chunk.
 template<typename Body>
 void
-forEachIndex(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body& body,
-             std::size_t grain = 8)
+forEachChunk(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body& body,
+             std::size_t grain)
 {
     auto run = [&](const tbb::blocked_range<std::size_t>& r) {
-        if (interrupt.poll()) return;
-        for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+        if (!interrupt.poll()) body(r);
     };
     const tbb::blocked_range<std::size_t> all(0, n, grain);
     if (threaded) tbb::parallel_for(all, run);
     else run(all);
+}
+
+/// Bit a of the result: @a k lies on the block's max face along axis a (@a limit = 8 * 2s).
+int
+handOverDirection(LocalKey k, int limit)
+{
+    return int(keyComponent(k, 0) == limit) | (int(keyComponent(k, 1) == limit) << 1)
+        | (int(keyComponent(k, 2) == limit) << 2);
 }
 
 } // namespace
@@ -437,14 +468,36 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
 {
     checkInterrupt(options.interrupter, "extraction");
     const int s = labels.subdivision;
-    const std::int64_t K = 2 * s;
+    const int K = 2 * s;
+    const int limit = BLOCK_DIM * K; // local key component of a block's max faces
+    if (s < 1 || limit > 0xFF) {
+        OPENVDB_THROW(openvdb::ValueError, "extraction: subdivision " << s
+            << " out of range [1, 15]");
+    }
+    // What moving a key by 8 * 2s along the axes of d subtracts: the offset from a block's
+    // local keys to those of its neighbour at origin + 8d.
+    LocalKey neighbourShift[8];
+    for (int d = 0; d < 8; ++d) {
+        neighbourShift[d] = LocalKey(((d & 1) ? limit * KEY_UNIT[0] : 0)
+            + ((d & 2) ? limit * KEY_UNIT[1] : 0) + ((d & 4) ? limit * KEY_UNIT[2] : 0));
+    }
     const std::vector<Coord> origins = extractionBlocks(labels, options.threaded);
-    std::vector<BlockMesh> blocks(origins.size());
+    const std::size_t blockCount = origins.size();
+    std::vector<BlockMesh> blocks(blockCount);
     InterruptFlag interrupt(options.interrupter);
+    auto blockIndex = [&](const Coord& origin) -> std::ptrdiff_t {
+        const auto it = std::lower_bound(origins.begin(), origins.end(), origin);
+        return (it != origins.end() && *it == origin) ? it - origins.begin() : -1;
+    };
+    auto neighbourOrigin = [&](std::size_t n, int d, int sign) {
+        return origins[n].offsetBy((d & 1) ? sign * BLOCK_DIM : 0,
+            (d & 2) ? sign * BLOCK_DIM : 0, (d & 4) ? sign * BLOCK_DIM : 0);
+    };
 
-    // 1. Triangles per block, with block-local vertex indices.
-    auto walkBlocks = [&](const tbb::blocked_range<std::size_t>& range) {
-        if (interrupt.poll()) return;
+    // 1. Triangles per block, with block-local keys. A block keeps the keys it numbers
+    //    itself and hands those on its max faces over to the neighbour that numbers them.
+    forEachChunk(blockCount, options.threaded, interrupt,
+                 [&](const tbb::blocked_range<std::size_t>& range) {
         LabelWindow::Accessor acc(labels.coarse->tree());
         MaskWindow::Accessor maskAcc(labels.subdivided->tree());
         auto window = std::make_unique<LabelWindow>();
@@ -462,76 +515,46 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
             block.patchCounts.assign(block.patches.size(), 0);
             for (const std::uint32_t l : block.patchOf) ++block.patchCounts[l];
-        }
-    };
-    const tbb::blocked_range<std::size_t> allBlocks(0, origins.size(), 4);
-    if (options.threaded) tbb::parallel_for(allBlocks, walkBlocks);
-    else walkBlocks(allBlocks);
-    interrupt.throwIfStopped("extraction");
-
-    // 2. Every key is numbered by one block: the one holding the coarse cell it lies in.
-    //    Keys of block X lie in [X, X + 8] coarse units, so their owners are X + {0, 8}^3.
-    auto ownerOf = [&](const VertexKey& k) {
-        return Coord(int(floorDiv64(floorDiv64(k[0], K), BLOCK_DIM) * BLOCK_DIM),
-                     int(floorDiv64(floorDiv64(k[1], K), BLOCK_DIM) * BLOCK_DIM),
-                     int(floorDiv64(floorDiv64(k[2], K), BLOCK_DIM) * BLOCK_DIM));
-    };
-    auto blockIndex = [&](const Coord& origin) -> std::ptrdiff_t {
-        const auto it = std::lower_bound(origins.begin(), origins.end(), origin);
-        return (it != origins.end() && *it == origin) ? it - origins.begin() : -1;
-    };
-    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
-        BlockMesh& block = blocks[n];
-        for (int m = 0; m < 8; ++m) {
-            const std::ptrdiff_t x = blockIndex(origins[n].offsetBy((m & 1) ? -BLOCK_DIM : 0,
-                (m & 2) ? -BLOCK_DIM : 0, (m & 4) ? -BLOCK_DIM : 0));
-            if (x < 0) continue;
-            for (const VertexKey& k : blocks[x].keys) {
-                if (ownerOf(k) == origins[n]) block.owned.push_back(k);
+            block.owned.reserve(block.keys.size());
+            for (const LocalKey k : block.keys) {
+                const int d = handOverDirection(k, limit);
+                if (d == 0) block.owned.push_back(k);
+                else block.handedOver[d].push_back(k - neighbourShift[d]);
             }
         }
-        std::sort(block.owned.begin(), block.owned.end());
-        block.owned.erase(std::unique(block.owned.begin(), block.owned.end()),
-            block.owned.end());
-    });
+    }, 4);
     interrupt.throwIfStopped("extraction");
 
-    std::vector<std::size_t> vertexOffset(origins.size() + 1, 0);
-    for (std::size_t n = 0; n < origins.size(); ++n) {
+    // 2. Every block numbers its own keys and those its neighbours at origin - 8d handed
+    //    over, in key order.
+    forEachChunk(blockCount, options.threaded, interrupt,
+                 [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            std::vector<LocalKey>& owned = blocks[n].owned;
+            for (int d = 1; d < 8; ++d) {
+                const std::ptrdiff_t x = blockIndex(neighbourOrigin(n, d, -1));
+                if (x < 0) continue;
+                const std::vector<LocalKey>& given = blocks[std::size_t(x)].handedOver[d];
+                owned.insert(owned.end(), given.begin(), given.end());
+            }
+            std::sort(owned.begin(), owned.end());
+            owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
+        }
+    }, 8);
+    interrupt.throwIfStopped("extraction");
+
+    std::vector<std::size_t> vertexOffset(blockCount + 1, 0);
+    for (std::size_t n = 0; n < blockCount; ++n) {
         vertexOffset[n + 1] = vertexOffset[n] + blocks[n].owned.size();
     }
 
-    // 3. Global indices of every block's keys, through their owners (among X + {0, 8}^3).
-    std::atomic<bool> lostKey{false};
-    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
-        BlockMesh& block = blocks[n];
-        std::ptrdiff_t owners[8];
-        for (int m = 0; m < 8; ++m) {
-            owners[m] = blockIndex(origins[n].offsetBy((m & 1) ? BLOCK_DIM : 0,
-                (m & 2) ? BLOCK_DIM : 0, (m & 4) ? BLOCK_DIM : 0));
-        }
-        block.global.resize(block.keys.size());
-        for (std::size_t i = 0; i < block.keys.size(); ++i) {
-            const VertexKey& k = block.keys[i];
-            const Coord d = ownerOf(k) - origins[n];
-            const std::ptrdiff_t owner = owners[(d.x() > 0) | ((d.y() > 0) << 1)
-                | ((d.z() > 0) << 2)];
-            if (owner < 0) { lostKey = true; continue; }
-            const auto& owned = blocks[owner].owned;
-            const auto it = std::lower_bound(owned.begin(), owned.end(), k);
-            block.global[i] = std::uint32_t(vertexOffset[owner] + (it - owned.begin()));
-        }
-    });
-    interrupt.throwIfStopped("extraction");
-    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
-
-    // 4. Patches in (a, b) order; inside a patch, block order then emission order.
+    // 3. Patches in (a, b) order; inside a patch, block order then emission order.
     std::map<LabelPair, std::size_t> patchIndex;
     for (const BlockMesh& block : blocks) {
         for (const LabelPair& p : block.patches) patchIndex.emplace(p, 0);
     }
     InterfaceMesh mesh;
-    mesh.keyScale = int(K);
+    mesh.keyScale = K;
     for (auto& entry : patchIndex) {
         entry.second = mesh.patches.size();
         InterfacePatch patch;
@@ -541,57 +564,74 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     }
     // start[n][l]: where block n's triangles of its local patch l go. Only the (block,
     // patch) pairs that occur are visited, so this is linear in the output.
-    std::vector<std::vector<std::size_t>> start(origins.size());
+    std::vector<std::vector<std::size_t>> start(blockCount);
     std::vector<std::vector<std::pair<std::size_t, std::size_t>>> users(mesh.patches.size());
-    for (std::size_t n = 0; n < origins.size(); ++n) {
+    for (std::size_t n = 0; n < blockCount; ++n) {
         const BlockMesh& block = blocks[n];
         start[n].resize(block.patches.size());
         for (std::size_t l = 0; l < block.patches.size(); ++l) {
-            users[patchIndex[block.patches[l]]].push_back({n, block.patchCounts[l]});
+            users[patchIndex[block.patches[l]]].push_back({n, l});
         }
     }
     std::size_t total = 0;
     for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
         mesh.patches[p].firstTriangle = total;
-        const LabelPair pair{mesh.patches[p].a, mesh.patches[p].b};
         for (const auto& user : users[p]) {
-            const BlockMesh& block = blocks[user.first];
-            const std::size_t l = std::size_t(std::find(block.patches.begin(),
-                block.patches.end(), pair) - block.patches.begin());
-            start[user.first][l] = total;
-            total += user.second;
+            start[user.first][user.second] = total;
+            total += blocks[user.first].patchCounts[user.second];
         }
         mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
     }
 
+    // 4. Global indices of every block's keys (found in their owners' sorted keys), its
+    //    triangles at their places, the points it numbers. A key k of block X is at coarse
+    //    index (2s X + k) / 2s; voxel centres sit at integer indices in OpenVDB, so the cube
+    //    of voxel c spans [c - 0.5, c + 0.5] there.
     mesh.triangles.resize(total);
-    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
-        const BlockMesh& block = blocks[n];
-        std::vector<std::size_t>& next = start[n];
-        for (std::size_t t = 0; t < block.patchOf.size(); ++t) {
-            const std::size_t at = next[block.patchOf[t]]++;
-            mesh.triangles[at] = openvdb::Vec3I(block.global[block.corners[3 * t]],
-                block.global[block.corners[3 * t + 1]], block.global[block.corners[3 * t + 2]]);
-        }
-    });
-    interrupt.throwIfStopped("extraction");
-
-    // 5. Points: a key k is at coarse index k / 2s; voxel centres sit at integer indices in
-    //    OpenVDB, so the cube of voxel c spans [c - 0.5, c + 0.5] there.
     mesh.points.resize(vertexOffset.back());
-    mesh.pointKeys.resize(vertexOffset.back());
+    if (options.pointKeys) mesh.pointKeys.resize(vertexOffset.back());
     const openvdb::math::Transform& xform = labels.coarse->transform();
-    forEachIndex(origins.size(), options.threaded, interrupt, [&](std::size_t n) {
-        const BlockMesh& block = blocks[n];
-        for (std::size_t i = 0; i < block.owned.size(); ++i) {
-            const VertexKey& k = block.owned[i];
-            const openvdb::Vec3d index(double(k[0]) / double(K) - 0.5,
-                double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5);
-            mesh.points[vertexOffset[n] + i] = xform.indexToWorld(index);
-            mesh.pointKeys[vertexOffset[n] + i] = k;
+    std::atomic<bool> lostKey{false};
+    forEachChunk(blockCount, options.threaded, interrupt,
+                 [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<std::uint32_t> global;
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            const BlockMesh& block = blocks[n];
+            std::ptrdiff_t owners[8];
+            owners[0] = std::ptrdiff_t(n);
+            for (int d = 1; d < 8; ++d) owners[d] = blockIndex(neighbourOrigin(n, d, 1));
+            global.resize(block.keys.size());
+            for (std::size_t i = 0; i < block.keys.size(); ++i) {
+                const int d = handOverDirection(block.keys[i], limit);
+                const std::ptrdiff_t owner = owners[d];
+                if (owner < 0) { lostKey = true; continue; }
+                const std::vector<LocalKey>& owned = blocks[std::size_t(owner)].owned;
+                const auto it = std::lower_bound(owned.begin(), owned.end(),
+                    block.keys[i] - neighbourShift[d]);
+                global[i] = std::uint32_t(vertexOffset[std::size_t(owner)]
+                    + std::size_t(it - owned.begin()));
+            }
+            std::vector<std::size_t> next = start[n];
+            for (std::size_t t = 0; t < block.patchOf.size(); ++t) {
+                const std::size_t at = next[block.patchOf[t]]++;
+                mesh.triangles[at] = openvdb::Vec3I(global[block.corners[3 * t]],
+                    global[block.corners[3 * t + 1]], global[block.corners[3 * t + 2]]);
+            }
+            const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
+                std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
+            for (std::size_t i = 0; i < block.owned.size(); ++i) {
+                const VertexKey k = {base[0] + keyComponent(block.owned[i], 0),
+                    base[1] + keyComponent(block.owned[i], 1),
+                    base[2] + keyComponent(block.owned[i], 2)};
+                const openvdb::Vec3d index(double(k[0]) / double(K) - 0.5,
+                    double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5);
+                mesh.points[vertexOffset[n] + i] = xform.indexToWorld(index);
+                if (options.pointKeys) mesh.pointKeys[vertexOffset[n] + i] = k;
+            }
         }
-    });
+    }, 8);
     interrupt.throwIfStopped("extraction");
+    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
     return mesh;
 }
 

@@ -15,6 +15,8 @@ struct ExtractionOptions
     /// Only faces owned by voxels in this box (face (v, axis) is owned by voxel v); an empty
     /// box means all. Tiles of a grid extracted this way stitch by their vertex keys.
     openvdb::CoordBBox ownerBox;
+    /// Fill InterfaceMesh::pointKeys: needed to stitch tiles, not to write or draw the mesh.
+    bool pointKeys = false;
     bool threaded = true;
     openvdb::util::NullInterrupter* interrupter = nullptr;
 };
@@ -26,6 +28,7 @@ struct ExtractionOptions
 /// becomes a fan around its centre, other coarse faces two triangles. Vertices are welded by
 /// exact integer keys. The output is assembled in a fixed order: byte-identical for any
 /// number of threads.
+/// @throw openvdb::ValueError if the subdivision is not in [1, 15]
 /// @throw vdbi::Interrupted if the interrupter asks to stop
 InterfaceMesh extractInterfacePatches(const RefinedLabels& labels,
                                       const ExtractionOptions& options = ExtractionOptions());

@@ -38,7 +38,8 @@ struct InterfaceMesh
     std::vector<openvdb::Vec3d> points;           ///< world space
     std::vector<openvdb::Vec3I> triangles;        ///< indices into points
     std::vector<InterfacePatch> patches;          ///< sorted by (a, b)
-    /// Exact key of every point (empty after remeshing moved points off the key grid).
+    /// Exact key of every point; empty unless asked for (ExtractionOptions::pointKeys) and
+    /// after remeshing moved points off the key grid.
     std::vector<VertexKey> pointKeys;
     int keyScale = 0;                             ///< key units per coarse voxel (2s)
 

@@ -105,6 +105,7 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     ExtractionOptions extraction;
     extraction.threaded = options.repair.threaded;
     extraction.ownerBox = options.region;
+    extraction.pointKeys = options.pointKeys || !options.region.empty();
     extraction.interrupter = options.repair.interrupter;
     result.mesh = extractInterfacePatches(refined, extraction);
     clock.lap("extraction");

@@ -29,6 +29,9 @@ struct Options
     /// triangles of the whole grid (the base for splitting work across machines).
     openvdb::CoordBBox region;
     static constexpr int HALO = 3;
+    /// Fill InterfaceMesh::pointKeys, the exact vertex keys that tiles stitch by (always on
+    /// with a region); writing the mesh does not need them.
+    bool pointKeys = true;
 };
 
 /// What a run found and how long its stages took.
