@@ -187,6 +187,7 @@ SOP_VDBInterfaces::cookVDBSop(OP_Context& context)
         const std::string groupPattern = evalStdString("group", time);
         vdbi::Options options;
         options.remesh = evalInt("remesh", 0, time) != 0;
+        options.pointKeys = false; // for stitching tiles; the geometry does not use them
         options.edgeLength = double(evalFloat("edgelength", 0, time));
         options.iterations = int(evalInt("iterations", 0, time));
         options.repair.constraints = vdbi::parseConstraints(evalStdString("constraints", time));

@@ -508,6 +508,7 @@ run(const Settings& s)
     }
     options.repair.interrupter = progress.isEnabled() ? &progress : nullptr;
     options.remesh = s.remesh;
+    options.pointKeys = false; // for stitching tiles; the writers do not use them
     options.edgeLength = s.edgeLength;
     options.iterations = s.iterations;
 
