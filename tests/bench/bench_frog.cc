@@ -331,10 +331,14 @@ printThroughput(const char* setup, const TimeResult& t, const Sizes& z, bool rem
     auto rate = [](double amount, double s) { return s > 0 ? amount / s : 0.0; };
     std::printf("   %-24s", setup);
     for (int k = 0; k < STAGE_COUNT; ++k) {
-        std::printf(" %5.1f/%4.2f", 1e-6 * rate(double(z.inputVoxels), t.seconds[k]),
+        if (k == REMESHING && !remesh) {
+            std::printf(" %15s", "-");
+            continue;
+        }
+        std::printf(" %7.2f/%7.2f", 1e-6 * rate(double(z.inputVoxels), t.seconds[k]),
             1e-6 * rate(triangles(k), t.seconds[k]));
     }
-    std::printf(" %5.1f/%4.2f %5.1f/%4.2f\n",
+    std::printf(" %7.2f/%7.2f %7.2f/%7.2f\n",
         1e-6 * rate(double(z.inputVoxels), t.repairExtraction),
         1e-6 * rate(double(z.triangles), t.repairExtraction),
         1e-6 * rate(double(z.inputVoxels), t.pipeline),
@@ -456,8 +460,8 @@ main(int argc, char** argv)
             "second / million triangles per second\n   (triangles: the raw mesh's up to "
             "extraction, the remeshed mesh's from remeshing on):\n");
         std::printf("   %-24s", "setup");
-        for (int k = 0; k < STAGE_COUNT; ++k) std::printf(" %10s", STAGE_NAMES[k]);
-        std::printf(" %10s %10s\n", "crit+fat+x", "+prepare");
+        for (int k = 0; k < STAGE_COUNT; ++k) std::printf(" %15s", STAGE_NAMES[k]);
+        std::printf(" %15s %15s\n", "crit+fat+x", "+prepare");
         for (int c = 0; c < SETUP_COUNT; ++c) {
             printThroughput(SETUPS[c].name, times[std::size_t(v)][std::size_t(c)], z, remesh);
         }
