@@ -1,23 +1,28 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file bench/bench_frog.cc
 /// @brief The sample volumes through every stage: read, prepare (voxelizedLabels +
-/// collectLabels), critical elements, fattening, extraction, write (.ply into a temp folder).
+/// collectLabels), critical elements, fattening, extraction, remeshing (remeshPatches with
+/// the pipeline's settings: one voxel, 10 iterations), write (.ply of the final mesh into a
+/// temp folder).
 /// @details Prints the median seconds per stage for three threading setups: the serial
 /// fallback (RepairOptions::threaded = false), TBB limited to 1 thread and TBB with 2 threads
-/// (tbb::global_control), in wall and in CPU seconds, with the sizes of the result and the
-/// memory: memUsage() of the grids, the bytes of the mesh, the peak RSS of every stage (VmHWM
-/// after resetting it through /proc/self/clear_refs) in a process that ran the volume once.
+/// (tbb::global_control), in wall and in CPU seconds; labelled voxels and triangles per second
+/// of every stage; the speedup of 2 threads over 1; the sizes of the result and the memory:
+/// memUsage() of the grids, the bytes of the mesh, the peak RSS of every stage (VmHWM after
+/// resetting it through /proc/self/clear_refs) in a process that ran the volume once.
 ///
 /// Times: one child process runs all volumes and setups in rounds, interleaved, after one
 /// warm-up round, so that a change of load on a shared machine hits all of them alike.
 /// Memory: every (volume, setup) runs once in a forked child of its own. The parent never
 /// starts TBB itself.
 ///
-/// Usage: bench_frog [--reps N] [--frog-only] [--keep DIR]
+/// Usage: bench_frog [--reps N] [--frog-only] [--no-remesh] [--keep DIR]
+///            (remeshing takes most of the time: --no-remesh skips it, and writes the raw mesh)
 ///        bench_frog --profile [--threads T]   one run of the frog's repair and extraction,
 ///            with callgrind instrumentation switched on only around it (run it under
 ///            valgrind --tool=callgrind --collect-atstart=no, or perf record).
 
+#include "BenchSupport.h"
 #include "support/TestData.h"
 
 #include <vdbi/CriticalElements.h>
@@ -26,6 +31,7 @@
 #include <vdbi/LabelGrid.h>
 #include <vdbi/LabelVolumeReader.h>
 #include <vdbi/MeshWriter.h>
+#include <vdbi/Remeshing.h>
 
 #include <openvdb/openvdb.h>
 
@@ -38,19 +44,12 @@
 #define CALLGRIND_STOP_INSTRUMENTATION
 #endif
 
-#include <malloc.h>
 #include <stdlib.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,74 +57,21 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double
-seconds(Clock::time_point a, Clock::time_point b)
-{
-    return std::chrono::duration<double>(b - a).count();
-}
-
-/// CPU seconds of this process, all threads.
-double
-cpuSeconds()
-{
-    timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double
-median(std::vector<double> v)
-{
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-struct MemKb
-{
-    long rss = 0, hwm = 0;
-};
-
-MemKb
-readMem()
-{
-    MemKb m;
-    std::ifstream status("/proc/self/status");
-    std::string line;
-    while (std::getline(status, line)) {
-        if (line.rfind("VmRSS:", 0) == 0) m.rss = std::atol(line.c_str() + 6);
-        if (line.rfind("VmHWM:", 0) == 0) m.hwm = std::atol(line.c_str() + 6);
-    }
-    return m;
-}
-
-/// Returns freed heap to the system and resets VmHWM to the current RSS.
-bool
-resetPeak()
-{
-    malloc_trim(0);
-    std::ofstream clear("/proc/self/clear_refs");
-    clear << "5";
-    clear.flush();
-    return bool(clear);
-}
-
-std::string
-loadAverage()
-{
-    std::ifstream f("/proc/loadavg");
-    std::string a, b, c;
-    f >> a >> b >> c;
-    return a + " " + b + " " + c;
-}
+using vdbi_bench::Clock;
+using vdbi_bench::cpuSeconds;
+using vdbi_bench::loadAverage;
+using vdbi_bench::median;
+using vdbi_bench::MemKb;
+using vdbi_bench::meshBytes;
+using vdbi_bench::ratio;
+using vdbi_bench::readMem;
+using vdbi_bench::resetPeak;
+using vdbi_bench::seconds;
 
 /// The stages, in the order they run.
-enum Stage { READ, PREPARE, CRITICAL, FATTENING, EXTRACTION, WRITE, STAGE_COUNT };
+enum Stage { READ, PREPARE, CRITICAL, FATTENING, EXTRACTION, REMESHING, WRITE, STAGE_COUNT };
 const char* const STAGE_NAMES[STAGE_COUNT] = {"read", "prepare", "critical", "fattening",
-    "extraction", "write"};
+    "extraction", "remeshing", "write"};
 
 struct Setup
 {
@@ -151,6 +97,7 @@ struct Sizes
     long long criticalEdges = 0, criticalVertices = 0, singularVertices = 0;
     long long subdividedVoxels = 0, relabelledSubvoxels = 0;
     long long patches = 0, triangles = 0, vertices = 0;
+    long long remeshedTriangles = 0, remeshedVertices = 0; ///< 0 without remeshing
     long long inputBytes = 0, fineBytes = 0, maskBytes = 0, meshBytes = 0, fileBytes = 0;
 };
 
@@ -160,15 +107,6 @@ struct RunResult
     std::array<double, STAGE_COUNT> seconds{}, cpu{};
     Sizes sizes;
 };
-
-long long
-meshBytes(const vdbi::InterfaceMesh& m)
-{
-    return (long long)(m.points.size() * sizeof(openvdb::Vec3d)
-        + m.triangles.size() * sizeof(openvdb::Vec3I)
-        + m.pointKeys.size() * sizeof(vdbi::VertexKey)
-        + m.patches.size() * sizeof(vdbi::InterfacePatch));
-}
 
 /// A fresh temporary folder, removed with the object.
 class TempDir
@@ -200,11 +138,12 @@ struct PeakKb
     long before = 0; ///< VmHWM before the first stage (the process's peak until then)
 };
 
-/// One run of all stages; with @a peak, also the peak RSS of each stage (this resets VmHWM,
-/// so ru_maxrss of the process no longer holds its overall peak: PeakKb does).
+/// One run of all stages (remeshing only with @a remesh, else the raw mesh is written); with
+/// @a peak, also the peak RSS of each stage (this resets VmHWM, so ru_maxrss of the process
+/// no longer holds its overall peak: PeakKb does).
 RunResult
 runStages(const std::string& volume, const Setup& setup, const std::string& outDir,
-          PeakKb* peak)
+          bool remesh, PeakKb* peak)
 {
     RunResult r;
     vdbi::RepairOptions options;
@@ -245,9 +184,18 @@ runStages(const std::string& volume, const Setup& setup, const std::string& outD
     stage(FATTENING, [&] { refined = vdbi::fattenCriticalElements(labels, elements, options); });
     vdbi::InterfaceMesh mesh;
     stage(EXTRACTION, [&] { mesh = vdbi::extractInterfacePatches(*refined, extraction); });
+    // The settings of vdbi::extractInterfaces() with Options::remesh.
+    vdbi::InterfaceMesh remeshed;
+    if (remesh) {
+        vdbi::RemeshOptions remeshing;
+        remeshing.voxelSize = grid->voxelSize();
+        remeshing.edgeLength = remeshing.voxelSize[0];
+        remeshing.threaded = setup.threaded;
+        stage(REMESHING, [&] { remeshed = vdbi::remeshPatches(mesh, remeshing); });
+    }
     const std::string file = outDir + "/" + std::filesystem::path(volume).stem().string()
         + ".ply";
-    stage(WRITE, [&] { vdbi::writeInterfaceMesh(mesh, file); });
+    stage(WRITE, [&] { vdbi::writeInterfaceMesh(remesh ? remeshed : mesh, file); });
 
     Sizes& z = r.sizes;
     z.inputVoxels = (long long)grid->activeVoxelCount();
@@ -261,6 +209,8 @@ runStages(const std::string& volume, const Setup& setup, const std::string& outD
     z.patches = (long long)mesh.patches.size();
     z.triangles = (long long)mesh.triangles.size();
     z.vertices = (long long)mesh.points.size();
+    z.remeshedTriangles = (long long)remeshed.triangles.size();
+    z.remeshedVertices = (long long)remeshed.points.size();
     z.inputBytes = (long long)labels->memUsage();
     z.fineBytes = (long long)refined->fine->memUsage();
     z.maskBytes = (long long)refined->subdivided->memUsage();
@@ -297,7 +247,7 @@ struct TimeResult
 using TimeTable = std::array<std::array<TimeResult, SETUP_COUNT>, VOLUME_COUNT>;
 
 TimeTable
-measureTimes(int reps, int volumes, const std::string& outDir)
+measureTimes(int reps, int volumes, const std::string& outDir, bool remesh)
 {
     // Per (volume, setup): wall seconds of the stages, of the two sums, then the same in CPU
     // seconds.
@@ -309,7 +259,7 @@ measureTimes(int reps, int volumes, const std::string& outDir)
             for (int c = 0; c < SETUP_COUNT; ++c) {
                 tbb::global_control control(tbb::global_control::max_allowed_parallelism,
                     std::size_t(SETUPS[c].threads));
-                const RunResult r = runStages(VOLUMES[v], SETUPS[c], outDir, nullptr);
+                const RunResult r = runStages(VOLUMES[v], SETUPS[c], outDir, remesh, nullptr);
                 if (rep < 0) continue;
                 Samples& s = samples[std::size_t(v)][std::size_t(c)];
                 for (std::size_t o : {std::size_t(0), W}) {
@@ -338,56 +288,6 @@ measureTimes(int reps, int volumes, const std::string& outDir)
         }
     }
     return t;
-}
-
-/// Runs @a body in a forked child; its result comes back through a pipe, the child's peak
-/// RSS through wait4(). Returns false if the child failed.
-template<typename T, typename Body>
-bool
-inChild(const Body& body, T& out, long& maxRssKb)
-{
-    int fd[2];
-    if (pipe(fd) != 0) { std::perror("pipe"); std::exit(1); }
-    std::fflush(stdout);
-    std::fflush(stderr);
-    const pid_t pid = fork();
-    if (pid < 0) { std::perror("fork"); std::exit(1); }
-    if (pid == 0) {
-        close(fd[0]);
-        bool ok = false;
-        try {
-            openvdb::initialize();
-            const auto result = std::make_unique<T>(body());
-            const char* p = reinterpret_cast<const char*>(result.get());
-            std::size_t left = sizeof(T);
-            while (left > 0) {
-                const ssize_t w = write(fd[1], p, left);
-                if (w <= 0) break;
-                p += w;
-                left -= std::size_t(w);
-            }
-            ok = left == 0;
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "child: %s\n", e.what());
-        }
-        close(fd[1]);
-        _exit(ok ? 0 : 1);
-    }
-    close(fd[1]);
-    char* p = reinterpret_cast<char*>(&out);
-    std::size_t got = 0;
-    while (got < sizeof(T)) {
-        const ssize_t n = read(fd[0], p + got, sizeof(T) - got);
-        if (n <= 0) break;
-        got += std::size_t(n);
-    }
-    close(fd[0]);
-    int status = 0;
-    struct rusage usage;
-    std::memset(&usage, 0, sizeof usage);
-    wait4(pid, &status, 0, &usage);
-    maxRssKb = usage.ru_maxrss;
-    return got == sizeof(T) && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 /// One run of the frog's repair and extraction for a profiler.
@@ -419,24 +319,51 @@ profile(int threads)
     return 0;
 }
 
+/// Labelled voxels and triangles per second of every stage and of the sums, for one setup.
+void
+printThroughput(const char* setup, const TimeResult& t, const Sizes& z, bool remesh)
+{
+    // Triangles per second: the triangles the pipeline delivers after that stage's part of
+    // it, the raw ones up to extraction, the remeshed ones for remeshing and write.
+    auto triangles = [&](int k) {
+        return double(remesh && k >= REMESHING ? z.remeshedTriangles : z.triangles);
+    };
+    auto rate = [](double amount, double s) { return s > 0 ? amount / s : 0.0; };
+    std::printf("   %-24s", setup);
+    for (int k = 0; k < STAGE_COUNT; ++k) {
+        if (k == REMESHING && !remesh) {
+            std::printf(" %15s", "-");
+            continue;
+        }
+        std::printf(" %7.2f/%7.2f", 1e-6 * rate(double(z.inputVoxels), t.seconds[k]),
+            1e-6 * rate(triangles(k), t.seconds[k]));
+    }
+    std::printf(" %7.2f/%7.2f %7.2f/%7.2f\n",
+        1e-6 * rate(double(z.inputVoxels), t.repairExtraction),
+        1e-6 * rate(double(z.triangles), t.repairExtraction),
+        1e-6 * rate(double(z.inputVoxels), t.pipeline),
+        1e-6 * rate(double(z.triangles), t.pipeline));
+}
+
 } // namespace
 
 int
 main(int argc, char** argv)
 {
     int reps = 7, threads = 1;
-    bool frogOnly = false, profileRun = false;
+    bool frogOnly = false, profileRun = false, remesh = true;
     std::string keep;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (arg == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
         else if (arg == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
         else if (arg == "--frog-only") frogOnly = true;
+        else if (arg == "--no-remesh") remesh = false;
         else if (arg == "--profile") profileRun = true;
         else if (arg == "--keep" && i + 1 < argc) keep = argv[++i];
         else {
-            std::fprintf(stderr, "usage: %s [--reps N] [--frog-only] [--keep DIR] | "
-                "--profile [--threads T]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--reps N] [--frog-only] [--no-remesh] [--keep DIR] "
+                "| --profile [--threads T]\n", argv[0]);
             return 2;
         }
     }
@@ -448,8 +375,9 @@ main(int argc, char** argv)
     const std::string outDir = keep.empty() ? temp->path() : keep;
 
     std::printf("bench_frog: %d volume(s) x {serial, TBB 1 thread, TBB 2 threads}; "
-        "%d timed rounds (interleaved) after a warm-up round; .ply into %s\n"
-        "load average before: %s\n", volumes, reps, outDir.c_str(), loadAverage().c_str());
+        "%d timed rounds (interleaved) after a warm-up round; remeshing %s; .ply into %s\n"
+        "load average before: %s\n", volumes, reps, remesh ? "on" : "off (--no-remesh)",
+        outDir.c_str(), loadAverage().c_str());
 
     // Memory first: one process per (volume, setup), one run each.
     std::vector<std::array<MemoryResult, SETUP_COUNT>> mem{std::size_t(volumes)};
@@ -458,11 +386,11 @@ main(int argc, char** argv)
         for (int c = 0; c < SETUP_COUNT; ++c) {
             MemoryResult r;
             long rss = 0;
-            const bool done = inChild([&] {
+            const bool done = vdbi_bench::inChild([&] {
                 tbb::global_control control(tbb::global_control::max_allowed_parallelism,
                     std::size_t(SETUPS[c].threads));
                 MemoryResult m;
-                m.sizes = runStages(VOLUMES[v], SETUPS[c], outDir, &m.peak).sizes;
+                m.sizes = runStages(VOLUMES[v], SETUPS[c], outDir, remesh, &m.peak).sizes;
                 m.ok = true;
                 return m;
             }, r, rss);
@@ -475,8 +403,13 @@ main(int argc, char** argv)
 
     TimeTable times{};
     long timingRss = 0;
-    const bool timed = inChild([&] { return measureTimes(reps, volumes, outDir); }, times,
-        timingRss);
+    const double cpu0 = vdbi_bench::childCpuSeconds();
+    const auto wall0 = Clock::now();
+    const bool timed = vdbi_bench::inChild([&] {
+        return measureTimes(reps, volumes, outDir, remesh);
+    }, times, timingRss);
+    const double timingCpu = vdbi_bench::childCpuSeconds() - cpu0;
+    const double timingWall = seconds(wall0, Clock::now());
     ok = ok && timed;
 
     for (int v = 0; v < volumes; ++v) {
@@ -487,13 +420,19 @@ main(int argc, char** argv)
         std::printf("   critical edges %lld, critical vertices %lld (singular %lld), "
             "subdivided voxels %lld, relabelled subvoxels %lld\n", z.criticalEdges,
             z.criticalVertices, z.singularVertices, z.subdividedVoxels, z.relabelledSubvoxels);
-        std::printf("   patches %lld, triangles %lld, vertices %lld, .ply %lld bytes\n",
-            z.patches, z.triangles, z.vertices, z.fileBytes);
+        std::printf("   patches %lld, triangles %lld, vertices %lld", z.patches, z.triangles,
+            z.vertices);
+        if (remesh) {
+            std::printf("; remeshed: triangles %lld, vertices %lld", z.remeshedTriangles,
+                z.remeshedVertices);
+        }
+        std::printf("; .ply %lld bytes\n", z.fileBytes);
         std::printf("   bytes: input grid %lld, fine grid %lld, mask %lld, mesh %lld\n",
             z.inputBytes, z.fineBytes, z.maskBytes, z.meshBytes);
         for (int c = 1; c < SETUP_COUNT; ++c) {
             const Sizes& y = mem[std::size_t(v)][std::size_t(c)].sizes;
             if (y.triangles != z.triangles || y.vertices != z.vertices
+                || y.remeshedTriangles != z.remeshedTriangles
                 || y.criticalEdges != z.criticalEdges || y.fileBytes != z.fileBytes) {
                 std::printf("   !! %s gives different sizes\n", SETUPS[c].name);
             }
@@ -517,6 +456,25 @@ main(int argc, char** argv)
             for (int k = 0; k < STAGE_COUNT; ++k) std::printf(" %10.4f", t.cpu[k]);
             std::printf(" %10.4f %10.4f\n", t.repairExtractionCpu, t.pipelineCpu);
         }
+        std::printf("   throughput from the median wall seconds, million labelled voxels per "
+            "second / million triangles per second\n   (triangles: the raw mesh's up to "
+            "extraction, the remeshed mesh's from remeshing on):\n");
+        std::printf("   %-24s", "setup");
+        for (int k = 0; k < STAGE_COUNT; ++k) std::printf(" %15s", STAGE_NAMES[k]);
+        std::printf(" %15s %15s\n", "crit+fat+x", "+prepare");
+        for (int c = 0; c < SETUP_COUNT; ++c) {
+            printThroughput(SETUPS[c].name, times[std::size_t(v)][std::size_t(c)], z, remesh);
+        }
+        const TimeResult& one = times[std::size_t(v)][1];
+        const TimeResult& two = times[std::size_t(v)][2];
+        std::printf("   speedup of TBB 2 threads over TBB 1 thread (median wall seconds):\n");
+        std::printf("   %-24s", "");
+        for (int k = 0; k < STAGE_COUNT; ++k) {
+            std::printf(" %10.2f", ratio(one.seconds[k], two.seconds[k]));
+        }
+        std::printf(" %10.2f %10.2f   <- repair + extraction: %.2fx\n",
+            ratio(one.repairExtraction, two.repairExtraction), ratio(one.pipeline, two.pipeline),
+            ratio(one.repairExtraction, two.repairExtraction));
         std::printf("   peak RSS per stage in kB (one run in a process of its own): growth over "
             "the RSS before the stage / absolute peak (VmHWM after clear_refs); max: the "
             "process's peak\n");
@@ -534,6 +492,8 @@ main(int argc, char** argv)
     }
     std::printf("\nru_maxrss of the timing process (all volumes and setups, no VmHWM resets): "
         "%ld kB\n", timingRss);
+    std::printf("timing process: %.1f s wall, %.1f s CPU (user + system)\n", timingWall,
+        timingCpu);
     std::printf("load average: before (see top); after the memory runs %s; at the end %s\n",
         loadMid.c_str(), loadAverage().c_str());
     if (!timed) std::printf("the timing process FAILED\n");

@@ -15,6 +15,8 @@
 ///
 /// Usage: bench_sparse [--reps N] [--threads T]   (defaults: 11 rounds, 2 threads)
 
+#include "BenchSupport.h"
+
 #include <vdbi/CriticalElements.h>
 #include <vdbi/Fattening.h>
 #include <vdbi/InterfaceExtraction.h>
@@ -25,18 +27,10 @@
 
 #include <tbb/global_control.h>
 
-#include <malloc.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -44,62 +38,15 @@
 namespace {
 
 using openvdb::Coord;
-using Clock = std::chrono::steady_clock;
-
-double
-seconds(Clock::time_point a, Clock::time_point b)
-{
-    return std::chrono::duration<double>(b - a).count();
-}
-
-double
-median(std::vector<double> v)
-{
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/// VmRSS and VmHWM of this process in kB (0 if /proc is not readable).
-struct MemKb
-{
-    long rss = 0, hwm = 0;
-};
-
-MemKb
-readMem()
-{
-    MemKb m;
-    std::ifstream status("/proc/self/status");
-    std::string line;
-    while (std::getline(status, line)) {
-        if (line.rfind("VmRSS:", 0) == 0) m.rss = std::atol(line.c_str() + 6);
-        if (line.rfind("VmHWM:", 0) == 0) m.hwm = std::atol(line.c_str() + 6);
-    }
-    return m;
-}
-
-/// Returns freed heap to the system and resets VmHWM to the current RSS.
-/// @return false if the peak cannot be reset (then per-stage peaks are not reported)
-bool
-resetPeak()
-{
-    malloc_trim(0);
-    std::ofstream clear("/proc/self/clear_refs");
-    clear << "5";
-    clear.flush();
-    return bool(clear);
-}
-
-std::string
-loadAverage()
-{
-    std::ifstream f("/proc/loadavg");
-    std::string a, b, c;
-    f >> a >> b >> c;
-    return a + " " + b + " " + c;
-}
+using vdbi_bench::Clock;
+using vdbi_bench::loadAverage;
+using vdbi_bench::median;
+using vdbi_bench::MemKb;
+using vdbi_bench::meshBytes;
+using vdbi_bench::ratio;
+using vdbi_bench::readMem;
+using vdbi_bench::resetPeak;
+using vdbi_bench::seconds;
 
 /// A ball of radius 6 around @a centre, each voxel a random label 1..4 (seeded).
 void
@@ -159,15 +106,6 @@ struct TimeResult
 {
     double critical = 0, fattening = 0, extraction = 0, total = 0;
 };
-
-long long
-meshBytes(const vdbi::InterfaceMesh& m)
-{
-    return (long long)(m.points.size() * sizeof(openvdb::Vec3d)
-        + m.triangles.size() * sizeof(openvdb::Vec3I)
-        + m.pointKeys.size() * sizeof(vdbi::VertexKey)
-        + m.patches.size() * sizeof(vdbi::InterfacePatch));
-}
 
 openvdb::Int32Grid::Ptr
 makeGrid(const Placement& p)
@@ -266,64 +204,6 @@ measureTimes(int reps)
     return r;
 }
 
-/// Runs @a body in a forked child with at most @a threads TBB threads; its result comes back
-/// through a pipe, the child's peak RSS through wait4(). Returns false if the child failed.
-template<typename T, typename Body>
-bool
-inChild(int threads, const Body& body, T& out, long& maxRssKb)
-{
-    int fd[2];
-    if (pipe(fd) != 0) { std::perror("pipe"); std::exit(1); }
-    std::fflush(stdout);
-    std::fflush(stderr);
-    const pid_t pid = fork();
-    if (pid < 0) { std::perror("fork"); std::exit(1); }
-    if (pid == 0) {
-        close(fd[0]);
-        bool ok = false;
-        try {
-            tbb::global_control control(tbb::global_control::max_allowed_parallelism,
-                std::size_t(threads));
-            openvdb::initialize();
-            const T result = body();
-            const char* p = reinterpret_cast<const char*>(&result);
-            std::size_t left = sizeof(T);
-            while (left > 0) {
-                const ssize_t w = write(fd[1], p, left);
-                if (w <= 0) break;
-                p += w;
-                left -= std::size_t(w);
-            }
-            ok = left == 0;
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "child: %s\n", e.what());
-        }
-        close(fd[1]);
-        _exit(ok ? 0 : 1);
-    }
-    close(fd[1]);
-    char* p = reinterpret_cast<char*>(&out);
-    std::size_t got = 0;
-    while (got < sizeof(T)) {
-        const ssize_t n = read(fd[0], p + got, sizeof(T) - got);
-        if (n <= 0) break;
-        got += std::size_t(n);
-    }
-    close(fd[0]);
-    int status = 0;
-    struct rusage usage;
-    std::memset(&usage, 0, sizeof usage);
-    wait4(pid, &status, 0, &usage);
-    maxRssKb = usage.ru_maxrss;
-    return got == sizeof(T) && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-double
-ratio(double a, double b)
-{
-    return b > 0 ? a / b : 0.0;
-}
-
 } // namespace
 
 int
@@ -349,7 +229,11 @@ main(int argc, char** argv)
     for (std::size_t n = 0; n < PLACEMENT_COUNT; ++n) {
         long rss = 0;
         MemoryResult r;
-        const bool done = inChild(threads, [&] { return measureMemory(PLACEMENTS[n]); }, r, rss);
+        const bool done = vdbi_bench::inChild([&] {
+            tbb::global_control control(tbb::global_control::max_allowed_parallelism,
+                std::size_t(threads));
+            return measureMemory(PLACEMENTS[n]);
+        }, r, rss);
         r.ok = done && r.ok;
         mem[n] = r;
         ok = ok && r.ok;
@@ -358,7 +242,9 @@ main(int argc, char** argv)
     using Times = std::array<TimeResult, PLACEMENT_COUNT>;
     Times times{};
     long timingRss = 0;
-    const bool timed = inChild(threads, [&] {
+    const bool timed = vdbi_bench::inChild([&] {
+        tbb::global_control control(tbb::global_control::max_allowed_parallelism,
+            std::size_t(threads));
         const std::vector<TimeResult> v = measureTimes(reps);
         Times t{};
         std::copy(v.begin(), v.end(), t.begin());
