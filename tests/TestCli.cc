@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+
+#include <csignal>
 #include <unistd.h>
 
 #include <algorithm>
@@ -265,6 +267,21 @@ TEST_F(TestCli, testRemeshingOnRequest)
 
     snapshot();
     expectUsageError({mKnight, "--stats", "--remesh", "--no-remesh"}, {"excludes"});
+}
+
+TEST_F(TestCli, testTerminateDuringExtraction)
+{
+    // SIGTERM 0.3 s into a run on the frog (seconds of CPU on one thread, the outputs come
+    // last): status 128 + 15, nothing written, not even the per-label folder.
+    const std::string script = "cd " + shellQuote(mWork.string()) + " && { "
+        + shellQuote(VDBI_CLI_PATH) + " " + shellQuote(vdbi_test::dataPath("frogtissue.mhd"))
+        + " --threads 1 -o frog.ply --per-label frog --report frog.json 2>"
+        + shellQuote((mCapture / "err").string()) + " & pid=$!; sleep 0.3; kill -TERM $pid; "
+        + "wait $pid; echo $? >" + shellQuote((mCapture / "status").string()) + "; }";
+    ASSERT_EQ(std::system(script.c_str()), 0);
+    EXPECT_EQ(std::stoi(readAll(mCapture / "status")), 128 + SIGTERM);
+    EXPECT_EQ(readAll(mCapture / "err"), "vdb_interfaces: interrupted\n");
+    EXPECT_TRUE(listFolder(mWork).empty());
 }
 
 TEST_F(TestCli, testOptionsAccepted)
