@@ -523,9 +523,9 @@ TEST_F(TestLargeLabels, testWritersKeepExtremeLabels)
 TEST_F(TestLargeLabels, testCliKeepsExtremeLabelsFromFileToFile)
 {
     // A row of four MET_INT voxels INT32_MIN, -1, 65536, INT32_MAX in background 0, read from
-    // a .mha by the CLI and written as .obj and per-label surfaces: each voxel is a unit
-    // cube, so a shared face is 2 triangles, an end voxel's faces to the background 10 and a
-    // middle voxel's 8.
+    // a .mha by the CLI and written as .obj and per-label surfaces. Raw extraction: each
+    // voxel is a unit cube, so a shared face is 2 triangles, an end voxel's faces to the
+    // background 10 and a middle voxel's 8.
     const std::vector<Label> row = {MIN, -1, 65536, MAX};
     std::string data;
     for (const Label l : row) {
@@ -536,7 +536,7 @@ TEST_F(TestLargeLabels, testCliKeepsExtremeLabelsFromFileToFile)
         << "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
            "DimSize = 4 1 1\nElementType = MET_INT\nElementDataFile = LOCAL\n" << data;
     const std::string command = "cd '" + mDir.string() + "' && '" + VDBI_CLI_PATH
-        + "' row.mha -o row.obj --per-label surfaces --per-label-format ply";
+        + "' row.mha --no-remesh -o row.obj --per-label surfaces --per-label-format ply";
     ASSERT_EQ(std::system(command.c_str()), 0);
 
     const std::map<std::string, std::size_t> groups = {{"patch_m2147483648_m1", 2},
