@@ -6,6 +6,7 @@
 /// holds exactly what it held before: no output, no temporary, no changed input.
 
 #include "support/TestData.h"
+#include "support/TestFiles.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/points/PointDataGrid.h>
@@ -39,16 +40,13 @@ using Bytes = std::string;
 Bytes
 readAll(const fs::path& path)
 {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+    return vdbi_test::readText(path.string());
 }
 
 void
 writeAll(const fs::path& path, const Bytes& bytes)
 {
-    std::ofstream(path, std::ios::binary) << bytes;
+    vdbi_test::writeText(path.string(), bytes);
 }
 
 bool
