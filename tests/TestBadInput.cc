@@ -415,6 +415,8 @@ badInputCases()
             USAGE, "", "--edge-length: must be greater than 0, got 0"},
         {"edgeLengthNegative", noFiles, {"knight.vox", "-o", "out.ply", "--edge-length=-0.5"},
             USAGE, "", "must be greater than 0, got -0.5"},
+        {"remeshAndNoRemesh", noFiles, {"knight.vox", "--stats", "--remesh", "--no-remesh"},
+            USAGE, "", "excludes"},
         {"threadsZero", noFiles, {"knight.vox", "-o", "out.ply", "--threads", "0"}, USAGE, "",
             "--threads: must be at least 1, got 0"},
         {"threadsNotANumber", noFiles, {"knight.vox", "-o", "out.ply", "--threads", "two"},

@@ -264,9 +264,6 @@ TEST_F(TestCli, testRemeshingOnRequest)
     EXPECT_GT(jsonCount(remeshed, "triangles"), 0u);
     EXPECT_NE(jsonCount(remeshed, "triangles"), jsonCount(raw, "triangles"));
     EXPECT_LT(jsonCount(coarse, "triangles"), jsonCount(remeshed, "triangles"));
-
-    snapshot();
-    expectUsageError({mKnight, "--stats", "--remesh", "--no-remesh"}, {"excludes"});
 }
 
 TEST_F(TestCli, testTerminateDuringExtraction)
