@@ -518,3 +518,36 @@ TEST_F(TestLargeLabels, testWritersKeepExtremeLabels)
     }
     EXPECT_TRUE(fs::exists(mDir / "label_m2147483648.ply"));
 }
+
+#ifdef VDBI_CLI_PATH
+TEST_F(TestLargeLabels, testCliKeepsExtremeLabelsFromFileToFile)
+{
+    // A row of four MET_INT voxels INT32_MIN, -1, 65536, INT32_MAX in background 0, read from
+    // a .mha by the CLI and written as .obj and per-label surfaces. Raw extraction: each
+    // voxel is a unit cube, so a shared face is 2 triangles, an end voxel's faces to the
+    // background 10 and a middle voxel's 8.
+    const std::vector<Label> row = {MIN, -1, 65536, MAX};
+    std::string data;
+    for (const Label l : row) {
+        const auto u = static_cast<std::uint32_t>(l);
+        for (int i = 0; i < 4; ++i) data += char((u >> (8 * i)) & 0xff);
+    }
+    std::ofstream(mDir / "row.mha", std::ios::binary)
+        << "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+           "DimSize = 4 1 1\nElementType = MET_INT\nElementDataFile = LOCAL\n" << data;
+    const std::string command = "cd '" + mDir.string() + "' && '" + VDBI_CLI_PATH
+        + "' row.mha --no-remesh -o row.obj --per-label surfaces --per-label-format ply";
+    ASSERT_EQ(std::system(command.c_str()), 0);
+
+    const std::map<std::string, std::size_t> groups = {{"patch_m2147483648_m1", 2},
+        {"patch_m2147483648_0", 10}, {"patch_m1_0", 8}, {"patch_m1_65536", 2},
+        {"patch_0_65536", 8}, {"patch_0_2147483647", 10}, {"patch_65536_2147483647", 2}};
+    EXPECT_EQ(objGroups(mDir / "row.obj"), groups);
+    std::set<std::string> files;
+    for (const auto& entry : fs::directory_iterator(mDir / "surfaces")) {
+        files.insert(entry.path().filename().string());
+    }
+    EXPECT_EQ(files, (std::set<std::string>{"label_m2147483648.ply", "label_m1.ply",
+        "label_65536.ply", "label_2147483647.ply"}));
+}
+#endif // VDBI_CLI_PATH

@@ -421,6 +421,12 @@ TEST_F(TestMetaImageReader, testShortData)
     const std::string half = this->path("half.mhd");
     writeText(half, this->frogHeader(vdbi_test::dataPath("frogtissue.zraw"), "half.zraw"));
     expectError<openvdb::IoError>([&] { vdbi::readMetaImage(half); }, half, "truncated");
+    // DimSize beyond what the compressed bytes can hold (deflate expands at most 1032 times):
+    // refused up front, the sizes named.
+    const std::string bomb = this->path("bomb.mhd");
+    writeText(bomb, this->frogHeader("DimSize = 500 470 136", "DimSize = 100000 100000 100000"));
+    expectError<openvdb::IoError>([&] { vdbi::readMetaImage(bomb); }, bomb,
+        "needs 1000000000000000 bytes, more than the 262087 bytes");
     // A complete stream of too few elements.
     const std::string few = this->path("few.mhd");
     writeText(few, this->frogHeader("DimSize = 500 470 136", "DimSize = 500 470 137"));

@@ -203,6 +203,26 @@ TEST_F(TestVdbReader, testOtherTypesRejected)
     expectError<openvdb::TypeError>([&] { vdbi::readVdb(none); }, none, {"no grids"});
 }
 
+TEST_F(TestVdbReader, testTilesBeyondMemoryRefused)
+{
+    // The stages turn tiles into voxels: 8 root tiles of 4096^3 (2 TiB as int32 voxels) are
+    // refused with their voxel count; an internal node's tile of 128^3 is read as a tile.
+    auto huge = openvdb::Int32Grid::create(0);
+    huge->setName("huge");
+    huge->tree().sparseFill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(8191)), 3);
+    const std::string path = this->path("huge.vdb");
+    writeGrids(path, {huge});
+    expectError<openvdb::ValueError>([&] { vdbi::readVdb(path); }, path,
+        {"'huge'", "549755813888 voxels", "GiB"});
+
+    auto tile = openvdb::Int32Grid::create(0);
+    tile->tree().addTile(/*level=*/2, openvdb::Coord(0), 3, /*active=*/true);
+    writeGrids(path, {tile});
+    const auto grid = vdbi::readVdb(path);
+    EXPECT_EQ(grid->activeVoxelCount(), 128u * 128u * 128u);
+    EXPECT_EQ(grid->tree().leafCount(), 0u);
+}
+
 TEST_F(TestVdbReader, testBadFiles)
 {
     const std::string missing = this->path("missing.vdb");

@@ -96,6 +96,14 @@ lowerExtension(const std::string& path)
     return ext;
 }
 
+/// "'.ext'" as written, or "(no extension)": an empty '' would puzzle.
+std::string
+quotedExtension(const std::string& path)
+{
+    const std::string ext = fs::path(path).extension().string();
+    return ext.empty() ? std::string("(no extension)") : "'" + ext + "'";
+}
+
 /// Parses all of @a text as an integer of type T; false on anything else.
 template<typename T>
 bool
@@ -183,8 +191,8 @@ const CLI::Validator MESH_EXTENSION(
     [](std::string& path) -> std::string {
         const std::string ext = lowerExtension(path);
         if (ext == ".ply" || ext == ".obj" || ext == ".vtp") return std::string();
-        return "'" + path + "': unknown output format '" + fs::path(path).extension().string()
-            + "' (expected .ply, .obj or .vtp)";
+        return "'" + path + "': unknown output format " + quotedExtension(path)
+            + " (expected .ply, .obj or .vtp)";
     },
     "", "MESH");
 
@@ -194,8 +202,8 @@ const CLI::Validator VOLUME_EXTENSION(
         if (ext == ".vdb" || ext == ".vox" || ext == ".mhd" || ext == ".mha") {
             return std::string();
         }
-        return "'" + path + "': unknown input format '" + fs::path(path).extension().string()
-            + "' (expected .vdb, .vox, .mhd or .mha)";
+        return "'" + path + "': unknown input format " + quotedExtension(path)
+            + " (expected .vdb, .vox, .mhd or .mha)";
     },
     "", "VOLUME");
 

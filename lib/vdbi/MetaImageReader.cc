@@ -33,6 +33,8 @@ constexpr std::size_t MAX_HEADER_LINE = 65536;
 constexpr std::size_t BLOCK_BYTES = std::size_t(1) << 20;
 /// Compressed bytes read from the file at a time.
 constexpr std::size_t INFLATE_INPUT_BYTES = std::size_t(1) << 18;
+/// The most a deflate stream can expand (258 bytes per code of at least 2 bits, zlib's FAQ).
+constexpr std::uint64_t MAX_DEFLATE_RATIO = 1032;
 
 std::string
 toLower(std::string s)
@@ -723,6 +725,18 @@ readMetaImage(const std::string& path)
     if (header.isCompressed && dataStart >= fileBytes) {
         OPENVDB_THROW(openvdb::IoError, path << ": " << role << "truncated: no compressed data"
             " after byte " << dataStart);
+    }
+    // Deflate expands at most 1032 times (zlib's FAQ): an absurd DimSize that the bytes at
+    // hand cannot hold is refused before anything is inflated.
+    if (header.isCompressed
+        && header.dataBytes() / MAX_DEFLATE_RATIO > fileBytes - dataStart)
+    {
+        OPENVDB_THROW(openvdb::IoError, path << ": " << role << "truncated: DimSize "
+            << header.dimSize[0] << " x " << header.dimSize[1] << " x " << header.dimSize[2]
+            << " of " << metaElementTypeName(header.elementType) << " needs "
+            << header.dataBytes() << " bytes, more than the " << (fileBytes - dataStart)
+            << " bytes of compressed data can hold (deflate expands at most "
+            << MAX_DEFLATE_RATIO << " times)");
     }
 
     std::ifstream dataIn(dataPath, std::ios::binary);

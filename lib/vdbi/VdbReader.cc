@@ -10,12 +10,15 @@
 #include <cstring>
 #include <cstdint>
 #include <filesystem>
+#include <iomanip>
 #include <fstream>
 #include <ios>
 #include <limits>
 #include <memory>
 #include <sstream>
 #include <type_traits>
+
+#include <unistd.h> // for sysconf
 
 namespace vdbi {
 
@@ -102,6 +105,31 @@ toInt32Grid(const openvdb::GridBase::Ptr& grid, const std::string& path)
         << typeName(*grid) << ", not an integer-valued type");
 }
 
+/// @brief Refuses a grid whose tiles the pipeline could not hold as voxels.
+/// @details The stages read leaf voxels, so tiles of a non-background value are filled with
+/// voxels first (4 bytes each at least). A few root tiles in a tiny file can stand for
+/// terabytes: better a message naming the size now than an allocation failure later.
+void
+checkTilesFitInMemory(const openvdb::Int32Grid& grid, const std::string& path)
+{
+    // A double: the tiles of a tree may hold more than 2^64 voxels.
+    double voxels = 0.0;
+    openvdb::Int32Tree::ValueAllCIter it = grid.tree().cbeginValueAll();
+    it.setMaxDepth(openvdb::Int32Tree::ValueAllCIter::LEAF_DEPTH - 1);
+    for (; it; ++it) {
+        if (*it != grid.background()) voxels += double(it.getBoundingBox().volume());
+    }
+    const double GIB = 1024.0 * 1024.0 * 1024.0;
+    const double bytes = voxels * double(sizeof(openvdb::Int32));
+    const double memory = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+    if (memory > 0.0 && bytes > memory) {
+        OPENVDB_THROW(openvdb::ValueError, path << ": grid '" << grid.getName() << "' has tiles"
+            " of " << std::fixed << std::setprecision(0) << voxels << " voxels, which the"
+            " extraction turns into voxels: at least " << std::setprecision(1) << bytes / GIB
+            << " GiB, more than this machine's memory (" << memory / GIB << " GiB)");
+    }
+}
+
 } // namespace
 
 openvdb::Int32Grid::Ptr
@@ -135,9 +163,14 @@ readVdb(const std::string& path, const std::string& gridName)
     } catch (const std::ios_base::failure&) {
         OPENVDB_THROW(openvdb::IoError, path << ": cannot read: truncated or unreadable .vdb"
             " file (a read failed or ran past its end)");
+    } catch (const openvdb::Exception& e) {
+        // what() reads "IoError: not a VDB file": the type name means nothing to a user.
+        const std::string message = e.what();
+        const std::size_t colon = message.find(": ");
+        OPENVDB_THROW(openvdb::IoError, path << ": cannot read as a .vdb file: "
+            << (colon == std::string::npos ? message : message.substr(colon + 2)));
     } catch (const std::exception& e) {
-        OPENVDB_THROW(openvdb::IoError, path << ": cannot read as a .vdb file (" << e.what()
-            << ")");
+        OPENVDB_THROW(openvdb::IoError, path << ": cannot read as a .vdb file: " << e.what());
     }
     if (!grids) grids = std::make_shared<openvdb::GridPtrVec>();
 
@@ -168,7 +201,9 @@ readVdb(const std::string& path, const std::string& gridName)
                 " holds " << describeGrids(*grids));
         }
     }
-    return toInt32Grid(grid, path);
+    const openvdb::Int32Grid::Ptr labels = toInt32Grid(grid, path);
+    checkTilesFitInMemory(*labels, path);
+    return labels;
 }
 
 } // namespace vdbi

@@ -28,7 +28,9 @@ namespace vdbi {
 /// @throw openvdb::TypeError  no grid of a usable type (the message lists the names and types
 ///                            found), or a value that is not an exact int32 (the message
 ///                            names the grid and the first such value)
-/// @throw openvdb::ValueError no grid named @a gridName (the message lists the grids found)
+/// @throw openvdb::ValueError no grid named @a gridName (the message lists the grids found);
+///                            tiles that as voxels (4 bytes each) would exceed the machine's
+///                            memory (the message names the voxel count)
 openvdb::Int32Grid::Ptr readVdb(const std::string& path,
                                 const std::string& gridName = std::string());
 
