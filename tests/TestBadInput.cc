@@ -36,6 +36,8 @@ namespace fs = std::filesystem;
 namespace {
 
 using Bytes = std::string;
+using vdbi_test::contains;
+using vdbi_test::shellQuote;
 
 Bytes
 readAll(const fs::path& path)
@@ -47,23 +49,6 @@ void
 writeAll(const fs::path& path, const Bytes& bytes)
 {
     vdbi_test::writeText(path.string(), bytes);
-}
-
-bool
-contains(const std::string& text, const std::string& part)
-{
-    return text.find(part) != std::string::npos;
-}
-
-std::string
-shellQuote(const std::string& arg)
-{
-    std::string quoted = "'";
-    for (const char c : arg) {
-        if (c == '\'') quoted += "'\\''";
-        else quoted += c;
-    }
-    return quoted + "'";
 }
 
 /// Every entry below @a dir with its contents ("" for a folder).

@@ -28,6 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 using vdbi_test::listFolder;
+using vdbi_test::contains;
+using vdbi_test::shellQuote;
 
 std::string
 readAll(const fs::path& path)
@@ -40,23 +42,6 @@ struct CliResult
     int status = -1;
     std::string out, err;
 };
-
-std::string
-shellQuote(const std::string& arg)
-{
-    std::string quoted = "'";
-    for (const char c : arg) {
-        if (c == '\'') quoted += "'\\''";
-        else quoted += c;
-    }
-    return quoted + "'";
-}
-
-bool
-contains(const std::string& text, const std::string& part)
-{
-    return text.find(part) != std::string::npos;
-}
 
 } // namespace
 

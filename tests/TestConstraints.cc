@@ -476,6 +476,7 @@ TEST_F(TestConstraints, testFrogWithRealConstraints)
     EXPECT_GT(faces, 1000u);
 
     vdbi::ExtractionOptions extraction;
+    extraction.pointKeys = true; // the checker's exact volumes
     const vdbi::InterfaceMesh mesh = vdbi::extractInterfacePatches(refined, extraction);
     EXPECT_EQ(verifyMesh(refined, mesh, options.constraints), "");
     std::cout << "      frog: " << faces << " A|B faces separated, " << c.manifold.pointsChecked
@@ -499,8 +500,9 @@ TEST_F(TestConstraints, testExtractionKeepsEveryGuarantee)
                 vdbi::RepairOptions options;
                 options.constraints = v.constraints;
                 const auto refined = repair(vdbi::voxelizedLabels(*v.grid), options);
-                const vdbi::InterfaceMesh mesh =
-                    vdbi::extractInterfacePatches(refined, vdbi::ExtractionOptions());
+                vdbi::ExtractionOptions extraction;
+                extraction.pointKeys = true; // the checker's exact volumes
+                const vdbi::InterfaceMesh mesh = vdbi::extractInterfacePatches(refined, extraction);
                 const std::string problem = verifyMesh(refined, mesh, v.constraints);
                 if (!problem.empty() && failing++ == 0) first = v.name + ": " + problem;
                 triangles += mesh.triangleCount();

@@ -11,6 +11,7 @@
 /// Usage: bench_remesh [--reps N] [--threads T] [--check] [--volume FILE] [LENGTH...]
 ///        (lengths in voxels, default 1 2 4)
 
+#include "BenchSupport.h"
 #include "support/MeshChecker.h"
 #include "support/MeshIntersections.h"
 #include "support/MeshQuality.h"
@@ -35,31 +36,10 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double
-seconds(Clock::time_point a, Clock::time_point b)
-{
-    return std::chrono::duration<double>(b - a).count();
-}
-
-/// CPU seconds of this process, all threads.
-double
-cpuSeconds()
-{
-    timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double
-median(std::vector<double> v)
-{
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using vdbi_bench::Clock;
+using vdbi_bench::cpuSeconds;
+using vdbi_bench::median;
+using vdbi_bench::seconds;
 
 /// The runs of one edge length.
 struct Runs

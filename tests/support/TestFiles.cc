@@ -42,6 +42,23 @@ writeText(const std::string& path, const std::string& text)
     writeBytes(path, Bytes(text.begin(), text.end()));
 }
 
+bool
+contains(const std::string& text, const std::string& part)
+{
+    return text.find(part) != std::string::npos;
+}
+
+std::string
+shellQuote(const std::string& arg)
+{
+    std::string quoted = "'";
+    for (const char c : arg) {
+        if (c == '\'') quoted += "'\\''";
+        else quoted += c;
+    }
+    return quoted + "'";
+}
+
 std::vector<std::string>
 listFolder(const fs::path& dir)
 {

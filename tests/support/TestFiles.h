@@ -25,6 +25,12 @@ std::string readText(const std::string& path);
 void writeBytes(const std::string& path, const Bytes& bytes);
 void writeText(const std::string& path, const std::string& text);
 
+/// True if @a part occurs in @a text.
+bool contains(const std::string& text, const std::string& part);
+
+/// @a arg in single quotes for /bin/sh, embedded quotes escaped.
+std::string shellQuote(const std::string& arg);
+
 /// The paths below @a dir (recursively), relative to it, sorted.
 std::vector<std::string> listFolder(const std::filesystem::path& dir);
 
