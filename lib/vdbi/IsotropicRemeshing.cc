@@ -17,9 +17,6 @@ using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using EdgeHandle = TriMesh::EdgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
-inline Point toPoint(const Vec3d& p) { return Point(p[0], p[1], p[2]); }
-inline Vec3d toVec(const Point& p) { return Vec3d(p[0], p[1], p[2]); }
-
 /// Squared distance from @a p to triangle (a, b, c).
 inline double
 distance2(const Point& p, const Point& a, const Point& b, const Point& c)

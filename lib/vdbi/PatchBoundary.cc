@@ -18,9 +18,6 @@ using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using EdgeHandle = TriMesh::EdgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
-inline Point toPoint(const Vec3d& p) { return Point(p[0], p[1], p[2]); }
-inline Vec3d toVec(const Point& p) { return Vec3d(p[0], p[1], p[2]); }
-
 } // namespace
 
 

@@ -25,7 +25,7 @@ convertPatch(const InterfaceMesh& in, const InterfacePatch& patch, PatchMesh& ou
         auto it = handles.find(p);
         if (it != handles.end()) return it->second;
         const openvdb::Vec3d& q = in.points[p];
-        const TriMesh::VertexHandle vh = out.mesh.add_vertex(TriMesh::Point(q.x(), q.y(), q.z()));
+        const TriMesh::VertexHandle vh = out.mesh.add_vertex(toPoint(q));
         out.pointIndex.push_back(p);
         handles.emplace(p, vh);
         return vh;

@@ -22,6 +22,10 @@ struct PatchMeshTraits : public OpenMesh::DefaultTraits
 };
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<PatchMeshTraits>;
 
+/// A world-space point of InterfaceMesh as a TriMesh point, and back.
+inline TriMesh::Point toPoint(const openvdb::Vec3d& p) { return TriMesh::Point(p[0], p[1], p[2]); }
+inline openvdb::Vec3d toVec(const TriMesh::Point& p) { return openvdb::Vec3d(p[0], p[1], p[2]); }
+
 /// One patch between labels a < b, normals from a into b.
 struct PatchMesh
 {
