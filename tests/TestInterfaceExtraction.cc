@@ -5,6 +5,8 @@
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/Interfaces.h>
 
+#include "support/MeshChecker.h"
+
 #include <gtest/gtest.h>
 
 #include <tbb/task_arena.h>
@@ -26,21 +28,6 @@ gridOf(const std::vector<std::pair<Coord, int>>& voxels, int background = 0)
     auto acc = grid->getAccessor();
     for (const auto& v : voxels) acc.setValueOn(v.first, v.second);
     return grid;
-}
-
-bool
-sameMesh(const vdbi::InterfaceMesh& a, const vdbi::InterfaceMesh& b)
-{
-    if (a.points != b.points || a.triangles != b.triangles || a.pointKeys != b.pointKeys) {
-        return false;
-    }
-    if (a.patches.size() != b.patches.size()) return false;
-    for (std::size_t p = 0; p < a.patches.size(); ++p) {
-        const auto &x = a.patches[p], &y = b.patches[p];
-        if (x.a != y.a || x.b != y.b || x.firstTriangle != y.firstTriangle
-            || x.triangleCount != y.triangleCount) return false;
-    }
-    return true;
 }
 
 } // namespace
@@ -125,8 +112,8 @@ TEST_F(TestInterfaceExtraction, testThreadIndependence)
     tbb::task_arena(1).execute([&] { b = vdbi::extractInterfaces(*grid); });
     const auto c = vdbi::extractInterfaces(*grid);
     ASSERT_GT(a.statistics.criticalEdges, 1000u);
-    EXPECT_TRUE(sameMesh(a.mesh, b.mesh));
-    EXPECT_TRUE(sameMesh(a.mesh, c.mesh));
+    EXPECT_EQ(vdbi_test::compareMeshes(a.mesh, b.mesh), "");
+    EXPECT_EQ(vdbi_test::compareMeshes(a.mesh, c.mesh), "");
 }
 
 // Constraint sets are checked before any work.

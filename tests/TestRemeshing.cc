@@ -188,19 +188,6 @@ isConsistentAndManifold(const vdbi::InterfaceMesh& mesh)
     return ::testing::AssertionSuccess();
 }
 
-bool
-sameMesh(const vdbi::InterfaceMesh& a, const vdbi::InterfaceMesh& b)
-{
-    if (a.points != b.points || a.triangles != b.triangles) return false;
-    if (a.patches.size() != b.patches.size()) return false;
-    for (std::size_t p = 0; p < a.patches.size(); ++p) {
-        const auto &x = a.patches[p], &y = b.patches[p];
-        if (x.a != y.a || x.b != y.b || x.firstTriangle != y.firstTriangle
-            || x.triangleCount != y.triangleCount) return false;
-    }
-    return true;
-}
-
 /// The independent checker (tests/support/MeshChecker) agrees, and remeshing changed no
 /// label's topology: every label surface is closed, with the Euler characteristic it had.
 void
@@ -456,8 +443,8 @@ TEST_F(TestRemeshing, testDeterministic)
     vdbi::InterfaceMesh single;
     tbb::task_arena arena(1);
     arena.execute([&] { single = remesh(raw, 1.5, true); });
-    EXPECT_TRUE(sameMesh(parallel, serial));
-    EXPECT_TRUE(sameMesh(parallel, single));
+    EXPECT_EQ(vdbi_test::compareMeshes(parallel, serial), "");
+    EXPECT_EQ(vdbi_test::compareMeshes(parallel, single), "");
 }
 
 TEST_F(TestRemeshing, testInvalidOptions)
