@@ -266,6 +266,34 @@ TEST_F(TestCli, testTerminateDuringExtraction)
     EXPECT_TRUE(listFolder(mWork).empty());
 }
 
+TEST_F(TestCli, testTerminateDuringRemeshing)
+{
+    // stderr a terminal (script(1) gives one), so the CLI prints its stages; SIGTERM as soon
+    // as "remeshing" shows (tens of CPU seconds on the frog at one thread, so no race with its
+    // end): status 128 + 15, the progress so far, "interrupted", and no file at all.
+    if (std::system("command -v script >/dev/null 2>&1") != 0) {
+        GTEST_SKIP() << "script(1) is not installed (util-linux's bsdutils)";
+    }
+    const std::string log = (mCapture / "log").string(), pid = (mCapture / "pid").string();
+    const std::string cli = "echo $$ >" + shellQuote(pid) + "; exec " + shellQuote(VDBI_CLI_PATH)
+        + " " + shellQuote(vdbi_test::dataPath("frogtissue.mhd"))
+        + " --threads 1 --remesh -o frog.ply --report frog.json";
+    const std::string script = "cd " + shellQuote(mWork.string()) + " && { script -qec "
+        + shellQuote(cli) + " /dev/null >" + shellQuote(log) + " 2>&1 </dev/null & spid=$!; "
+        + "until grep -q 'vdb_interfaces: remeshing' " + shellQuote(log) + "; do "
+        + "kill -0 $spid 2>/dev/null || break; sleep 0.02; done; kill -TERM $(cat "
+        + shellQuote(pid) + "); wait $spid; echo $? >" + shellQuote((mCapture / "status").string())
+        + "; }";
+    ASSERT_EQ(std::system(script.c_str()), 0);
+    EXPECT_EQ(std::stoi(readAll(mCapture / "status")), 128 + SIGTERM);
+    const std::string text = readAll(mCapture / "log");
+    EXPECT_TRUE(contains(text, "vdb_interfaces: critical elements")) << text;
+    EXPECT_TRUE(contains(text, "vdb_interfaces: extraction")) << text;
+    EXPECT_TRUE(contains(text, "vdb_interfaces: remeshing\r\nvdb_interfaces: interrupted"))
+        << text;
+    EXPECT_TRUE(listFolder(mWork).empty());
+}
+
 TEST_F(TestCli, testOptionsAccepted)
 {
     // Every option with a valid value.

@@ -452,7 +452,8 @@ checkFiles(const Settings& s)
 // ---------------------------------------------------------------------------------------
 // Progress and report
 
-/// Prints stage names when stderr is a terminal.
+/// Prints stage names when stderr is a terminal: the CLI's own (reading, writing) and the
+/// library's (critical elements, ..., remeshing), which it announces through start().
 class Progress : public openvdb::util::NullInterrupter
 {
 public:
@@ -520,7 +521,6 @@ run(const Settings& s)
     options.edgeLength = s.edgeLength;
     options.iterations = s.iterations;
 
-    progress.stage("extracting interfaces");
     vdbi::Result result = vdbi::extractInterfaces(*grid, options);
     report.statistics = result.statistics;
     report.stages.insert(report.stages.end(), result.statistics.stageSeconds.begin(),

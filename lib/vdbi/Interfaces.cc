@@ -17,22 +17,31 @@ namespace vdbi {
 
 namespace {
 
-/// Times the stages of one run into Statistics::stageSeconds.
+/// Times the stages of one run into Statistics::stageSeconds and tells the interrupter
+/// (start/end, OpenVDB's convention) which stage runs, so that a progress display can say it.
 class StageClock
 {
 public:
-    explicit StageClock(Statistics& stats): mStats(stats), mStart(Clock::now()) {}
-    void lap(const char* stage)
+    StageClock(Statistics& stats, openvdb::util::NullInterrupter* interrupter)
+        : mStats(stats), mInterrupter(interrupter) {}
+    void start(const char* stage)
     {
-        const Clock::time_point now = Clock::now();
-        mStats.stageSeconds.emplace_back(stage,
-            std::chrono::duration<double>(now - mStart).count());
-        mStart = now;
+        if (mInterrupter) mInterrupter->start(stage);
+        mStage = stage;
+        mStart = Clock::now();
+    }
+    void stop()
+    {
+        mStats.stageSeconds.emplace_back(mStage,
+            std::chrono::duration<double>(Clock::now() - mStart).count());
+        if (mInterrupter) mInterrupter->end();
     }
 
 private:
     using Clock = std::chrono::steady_clock;
     Statistics& mStats;
+    openvdb::util::NullInterrupter* mInterrupter;
+    const char* mStage = "";
     Clock::time_point mStart;
 };
 
@@ -82,25 +91,32 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     validate(options);
     Result result;
     Statistics& stats = result.statistics;
-    StageClock clock(stats);
+    StageClock clock(stats, options.repair.interrupter);
 
+    clock.start("prepare");
     const openvdb::Int32Grid::ConstPtr labels = options.region.empty()
         ? voxelizedLabels(grid) : labelsAround(grid, options.region);
     stats.labelCount = collectLabels(*labels, options.repair.threaded).size();
-    clock.lap("prepare");
+    clock.stop();
+
+    clock.start("critical elements");
 
     const CriticalElements elements = findCriticalElements(*labels, options.repair);
     stats.criticalFaces = elements.faces.size();
     stats.criticalEdges = elements.edges.size();
     stats.criticalVertices = elements.vertices.size();
     stats.singularVertices = elements.singularVertexCount();
-    clock.lap("critical elements");
+    clock.stop();
+
+    clock.start("fattening");
 
     const RefinedLabels refined = fattenCriticalElements(labels, elements, options.repair);
     stats.subdividedVoxels = refined.subdivided->activeVoxelCount();
     stats.relabelledSubvoxels = refined.fine->activeVoxelCount();
     stats.subdivision = refined.subdivision;
-    clock.lap("fattening");
+    clock.stop();
+
+    clock.start("extraction");
 
     ExtractionOptions extraction;
     extraction.threaded = options.repair.threaded;
@@ -108,9 +124,10 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     extraction.pointKeys = options.pointKeys || !options.region.empty();
     extraction.interrupter = options.repair.interrupter;
     result.mesh = extractInterfacePatches(refined, extraction);
-    clock.lap("extraction");
+    clock.stop();
 
     if (options.remesh) {
+        clock.start("remeshing");
         RemeshOptions remeshing;
         const openvdb::Vec3d voxel = grid.voxelSize();
         remeshing.edgeLength = options.edgeLength > 0.0 ? options.edgeLength : voxel[0];
@@ -119,7 +136,7 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
         remeshing.threaded = options.repair.threaded;
         remeshing.interrupter = options.repair.interrupter;
         result.mesh = remeshPatches(result.mesh, remeshing);
-        clock.lap("remeshing");
+        clock.stop();
     }
 
     stats.patches = result.mesh.patches.size();
