@@ -8,18 +8,54 @@
 
 #include <algorithm>
 #include <set>
+#include <type_traits>
 
 namespace vdbi {
 
 namespace {
 
-/// An iterator over the tile values of a tree (the root's and internal nodes'), no voxels.
-openvdb::Int32Tree::ValueAllCIter
-tileValues(const openvdb::Int32Tree& tree)
+using RootT = openvdb::Int32Tree::RootNodeType;
+using UpperT = RootT::ChildNodeType;
+using LowerT = UpperT::ChildNodeType;
+
+/// Calls op(node, slot, value) for every tile slot of every node of type NodeT.
+/// @details Reads the node tables directly: a tree iterator over all values visits the
+/// 32,768 + 4,096 slots of each upper and lower node through mask searches, which costs far
+/// more than the labels of a small volume.
+template<typename NodeT, typename Op>
+void
+forEachTileSlot(const openvdb::Int32Tree& tree, Op&& op)
 {
-    openvdb::Int32Tree::ValueAllCIter it = tree.cbeginValueAll();
-    it.setMaxDepth(openvdb::Int32Tree::ValueAllCIter::LEAF_DEPTH - 1);
-    return it;
+    std::vector<const NodeT*> nodes;
+    tree.getNodes(nodes);
+    for (const NodeT* node : nodes) {
+        const typename NodeT::UnionType* table = node->getTable();
+        const typename NodeT::NodeMaskType& children = node->getChildMask();
+        for (openvdb::Index i = 0; i < NodeT::NUM_VALUES; ++i) {
+            if (!children.isOn(i)) op(*node, i, table[i].getValue());
+        }
+    }
+}
+
+/// Calls op(bbox, value, active) for every tile of the tree (the root's and internal nodes'),
+/// no voxels, whose value is not the background.
+template<typename Op>
+void
+forEachLabelledTile(const openvdb::Int32Tree& tree, Op&& op)
+{
+    const Label background = tree.background();
+    for (auto it = tree.root().cbeginValueAll(); it; ++it) {
+        if (*it == background) continue;
+        op(openvdb::CoordBBox::createCube(it.getCoord(), UpperT::DIM), *it, it.isValueOn());
+    }
+    const auto internal = [&](const auto& node, openvdb::Index i, Label value) {
+        if (value == background) return;
+        using NodeT = std::decay_t<decltype(node)>;
+        op(openvdb::CoordBBox::createCube(node.offsetToGlobalCoord(i), NodeT::ChildNodeType::DIM),
+           value, node.isValueMaskOn(i));
+    };
+    forEachTileSlot<UpperT>(tree, internal);
+    forEachTileSlot<LowerT>(tree, internal);
 }
 
 } // namespace
@@ -27,12 +63,11 @@ tileValues(const openvdb::Int32Tree& tree)
 openvdb::Int32Grid::ConstPtr
 voxelizedLabels(const openvdb::Int32Grid& grid)
 {
-    const Label background = grid.background();
     // Collect first: filling a tile changes the tree under an iterator.
     std::vector<std::pair<openvdb::CoordBBox, std::pair<Label, bool>>> tiles;
-    for (auto it = tileValues(grid.tree()); it; ++it) {
-        if (*it != background) tiles.push_back({it.getBoundingBox(), {*it, it.isValueOn()}});
-    }
+    forEachLabelledTile(grid.tree(), [&](const openvdb::CoordBBox& box, Label value, bool active) {
+        tiles.push_back({box, {value, active}});
+    });
     if (tiles.empty()) return grid.copy(); // shares the tree
 
     openvdb::Int32Grid::Ptr copy = grid.deepCopy();
@@ -56,7 +91,8 @@ collectLabels(const openvdb::Int32Grid& grid, bool threaded)
         }
     }, threaded);
     std::set<Label> all{grid.background()};
-    for (auto it = tileValues(grid.tree()); it; ++it) all.insert(*it);
+    forEachLabelledTile(grid.tree(),
+        [&](const openvdb::CoordBBox&, Label value, bool) { all.insert(value); });
     for (const auto& labels : local) all.insert(labels.begin(), labels.end());
     return std::vector<Label>(all.begin(), all.end());
 }

@@ -24,6 +24,10 @@
 
 #include <openvdb/openvdb.h>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -118,11 +122,42 @@ fail(const std::string& what)
     std::abort();
 }
 
-std::uint64_t
-edgeKey(std::uint32_t u, std::uint32_t v)
+/// The directed edges of some triangles, grouped by their first vertex: a counting sort,
+/// linear in the edges, since the checks run on every input and sorting dominated them.
+class DirectedEdges
 {
-    return (std::uint64_t(u) << 32) | v;
-}
+public:
+    explicit DirectedEdges(std::size_t vertices) : mFirst(vertices + 1) {}
+
+    template<typename ForEachEdge>
+    void assign(ForEachEdge&& forEachEdge)
+    {
+        std::fill(mFirst.begin(), mFirst.end(), 0u);
+        std::size_t count = 0;
+        forEachEdge([&](std::uint32_t u, std::uint32_t) { ++mFirst[u + 1]; ++count; });
+        for (std::size_t v = 1; v < mFirst.size(); ++v) mFirst[v] += mFirst[v - 1];
+        mTargets.resize(count);
+        std::vector<std::uint32_t> next(mFirst.begin(), mFirst.end() - 1);
+        forEachEdge([&](std::uint32_t u, std::uint32_t v) { mTargets[next[u]++] = v; });
+    }
+    /// How many times the edge u -> v is present.
+    std::size_t count(std::uint32_t u, std::uint32_t v) const
+    {
+        return std::size_t(std::count(mTargets.begin() + mFirst[u],
+                                      mTargets.begin() + mFirst[u + 1], v));
+    }
+    template<typename Op>
+    void forEach(Op&& op) const
+    {
+        for (std::uint32_t u = 0; u + 1 < mFirst.size(); ++u) {
+            for (std::uint32_t i = mFirst[u]; i < mFirst[u + 1]; ++i) op(u, mTargets[i]);
+        }
+    }
+
+private:
+    std::vector<std::uint32_t> mFirst;   ///< per vertex, its first edge in mTargets
+    std::vector<std::uint32_t> mTargets;
+};
 
 /// The self-contained checker (see the file comment); aborts on the first violation.
 void
@@ -164,56 +199,42 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels,
         }
     }
 
-    // Per patch: directed edges unique, undirected edges in at most 2 triangles. Sorted
-    // arrays rather than hash maps: the meshes have tens of thousands of edges.
-    std::vector<std::uint64_t> directed, undirected;
-    for (const vdbi::InterfacePatch& patch : mesh.patches) {
-        directed.clear();
-        undirected.clear();
-        for (std::size_t t = patch.firstTriangle;
-             t < patch.firstTriangle + patch.triangleCount; ++t) {
-            const openvdb::Vec3I& tri = mesh.triangles[t];
-            for (int e = 0; e < 3; ++e) {
-                const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
-                directed.push_back(edgeKey(u, v));
-                undirected.push_back(edgeKey(std::min(u, v), std::max(u, v)));
-            }
-        }
-        std::sort(directed.begin(), directed.end());
-        std::sort(undirected.begin(), undirected.end());
-        if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) {
-            fail("directed edge twice in a patch");
-        }
-        for (std::size_t i = 2; i < undirected.size(); ++i) {
-            if (undirected[i] == undirected[i - 2]) fail("edge in 3 or more triangles of a patch");
-        }
-    }
-    // Per label: the union, oriented outward, is closed.
-    for (const auto& [label, patches] : patchesOf) {
-        directed.clear();
-        for (const std::size_t p : patches) {
-            const vdbi::InterfacePatch& patch = mesh.patches[p];
-            const bool flip = patch.b == label;
+    // Per patch: every directed edge once, so every undirected edge in at most 2 triangles.
+    DirectedEdges edges(n);
+    const auto trianglesOf = [&](const vdbi::InterfacePatch& patch, bool flip) {
+        return [&mesh, &patch, flip](auto&& op) {
             for (std::size_t t = patch.firstTriangle;
                  t < patch.firstTriangle + patch.triangleCount; ++t) {
                 const openvdb::Vec3I& tri = mesh.triangles[t];
                 for (int e = 0; e < 3; ++e) {
-                    std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
-                    if (flip) std::swap(u, v);
-                    directed.push_back(edgeKey(u, v));
+                    const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
+                    if (flip) op(v, u); else op(u, v);
                 }
             }
-        }
-        std::sort(directed.begin(), directed.end());
-        const std::string where = "the surface of label " + std::to_string(label);
-        if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) {
-            fail(where + " has a directed edge twice");
-        }
-        for (const std::uint64_t key : directed) {
-            if (!std::binary_search(directed.begin(), directed.end(), (key << 32) | (key >> 32))) {
-                fail(where + " is not closed (an edge without its reverse)");
+        };
+    };
+    for (const vdbi::InterfacePatch& patch : mesh.patches) {
+        edges.assign(trianglesOf(patch, false));
+        edges.forEach([&](std::uint32_t u, std::uint32_t v) {
+            if (edges.count(u, v) != 1) fail("directed edge twice in a patch");
+        });
+    }
+    // Per label: the union of its patches, flipped where it is b, is closed: every directed
+    // edge once and its reverse once.
+    for (const auto& entry : patchesOf) {
+        const Label label = entry.first; // (lambdas cannot capture structured bindings in C++17)
+        const std::vector<std::size_t>& patches = entry.second;
+        edges.assign([&](auto&& op) {
+            for (const std::size_t p : patches) {
+                const vdbi::InterfacePatch& patch = mesh.patches[p];
+                trianglesOf(patch, patch.b == label)(op);
             }
-        }
+        });
+        const std::string where = "the surface of label " + std::to_string(label);
+        edges.forEach([&](std::uint32_t u, std::uint32_t v) {
+            if (edges.count(u, v) != 1) fail(where + " has a directed edge twice");
+            if (edges.count(v, u) != 1) fail(where + " is not closed (an edge without its reverse)");
+        });
     }
 }
 
@@ -222,7 +243,16 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels,
 extern "C" int
 LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
-    static const bool initialized = (openvdb::initialize(), true);
+    static const bool initialized = [] {
+        openvdb::initialize();
+#ifdef __GLIBC__
+        // Keep freed memory for the next input: each run builds and frees trees with tables of
+        // hundreds of kilobytes, and returning them to the kernel made page faults a fifth of it.
+        mallopt(M_MMAP_THRESHOLD, 256 << 20);
+        mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
+        return true;
+    }();
     (void)initialized;
 
     Input in = decode(data, size);
