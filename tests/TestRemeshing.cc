@@ -10,6 +10,7 @@
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
 #include <vdbi/PatchMeshes.h>
+#include <vdbi/PatchSeparation.h>
 #include <vdbi/ReferenceSurface.h>
 #include <vdbi/Remeshing.h>
 
@@ -391,9 +392,10 @@ TEST_F(TestRemeshing, testSampleVolumes)
 }
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
-// voxel both ways and no intersecting triangles. Fails today (open): intersections where a
-// patch meets another one at a sharp angle or around labels of one or two voxels, and raw
-// faces up to 1.7 voxels from the remeshed surface at tips and thin layers. Takes minutes.
+// voxel both ways and no intersecting triangles. Fails today (open): intersecting pairs on
+// every volume but monu1 at 1 voxel (frog at 2 voxels: ~20,000, a third within one patch
+// where a tube or sheet is thinner than the target; chr_knight at 1 voxel: 25), and raw faces
+// up to 1.75 voxels from the remeshed surface at tips and thin layers. Takes minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {
@@ -406,6 +408,59 @@ TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
     const auto frog = vdbi::readLabelVolume(vdbi_test::dataPath("frogtissue.mhd"));
     checkRemeshing("frog, 2 voxels", extract(*frog), 2.0, Geometry::Asserted,
                    frog->voxelSize());
+}
+
+// Two triangles of patches (0, 1) and (1, 2) that share a corner cross each other: label 1
+// between them has turned inside out. separatePatches() moves the free corners apart along
+// their normals, away from label 1, until they no longer cross; the shared corner stays, no
+// corner moves farther than the limit, no triangle turns over.
+TEST_F(TestRemeshing, testSeparatePatches)
+{
+    vdbi::InterfaceMesh mesh;
+    mesh.points = {Vec3d(0, 0, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0),      // (0, 1): label 1 above
+                   Vec3d(0.8, -1, 0.3), Vec3d(0.8, 1, -0.3)};           // (1, 2): label 1 below
+    mesh.triangles = {openvdb::Vec3I(0, 1, 2), openvdb::Vec3I(0, 3, 4)};
+    vdbi::InterfacePatch p01, p12;
+    p01.a = 0;
+    p01.b = 1;
+    p01.firstTriangle = 0;
+    p01.triangleCount = 1;
+    p12.a = 1;
+    p12.b = 2;
+    p12.firstTriangle = 1;
+    p12.triangleCount = 1;
+    mesh.patches = {p01, p12};
+    ASSERT_TRUE(vdbi_test::trianglesIntersect(mesh.points, mesh.triangles[0], mesh.triangles[1]));
+
+    const vdbi::InterfaceMesh before = mesh;
+    vdbi::SeparationSettings settings;
+    settings.cellSize = 1.0;
+    settings.step = 0.1;
+    settings.maxMove = 0.4;
+    const std::vector<std::uint8_t> movable = {0, 1, 1, 1, 1};
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings), 0u);
+    EXPECT_FALSE(vdbi_test::trianglesIntersect(mesh.points, mesh.triangles[0], mesh.triangles[1]));
+    EXPECT_EQ(mesh.points[0], before.points[0]);
+    for (std::size_t v = 1; v < mesh.points.size(); ++v) {
+        EXPECT_LE((mesh.points[v] - before.points[v]).length(), 0.4 + 1e-12);
+    }
+    // Away from label 1: the corners of (0, 1) went down, those of (1, 2) up.
+    EXPECT_LT(mesh.points[1].z(), 0.0);
+    EXPECT_GT(mesh.points[4].z(), -0.3);
+    for (std::size_t t = 0; t < 2; ++t) {
+        auto normal = [&](const vdbi::InterfaceMesh& m) {
+            const auto& tri = m.triangles[t];
+            return (m.points[tri[1]] - m.points[tri[0]]).cross(m.points[tri[2]] - m.points[tri[0]]);
+        };
+        EXPECT_GT(normal(mesh).dot(normal(before)), 0.0);
+    }
+
+    // Patches without a shared label (0, 1) and (2, 3): no side to open, nothing moves.
+    mesh = before;
+    mesh.patches[1].a = 2;
+    mesh.patches[1].b = 3;
+    vdbi::separatePatches(mesh, movable, settings);
+    EXPECT_EQ(mesh.points, before.points);
 }
 
 // Labels of one to a few voxels inside others and on the outside keep closed surfaces

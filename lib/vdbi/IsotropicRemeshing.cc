@@ -353,11 +353,15 @@ void
 IsotropicRemesher::projectToReference()
 {
     const std::size_t count = mMesh.n_vertices();
-    std::vector<Point> normals(count);
-    std::vector<char> moved(count, 0);
+    std::vector<Point> normals(count), relaxed(count);
+    // What each vertex has of its round's moves: 2 relaxed and projected, 1 relaxed only,
+    // 0 neither.
+    std::vector<char> kept(count, 0);
     for (const VertexHandle v : mMesh.vertices()) {
         normals[v.idx()] = refNormal(v);
+        relaxed[v.idx()] = mMesh.point(v);
         if (!isFree(v)) continue;
+        kept[v.idx()] = 1;
         std::uint32_t& start = mPatch.refTriangle(v);
         ReferenceSurface::Hit hit = mPatch.reference().closestPointNear(toVec(mMesh.point(v)), start);
         // A move that turns the normal away from the vertex's anchor crosses a crease and
@@ -368,30 +372,32 @@ IsotropicRemesher::projectToReference()
             hit = mPatch.reference().closestPointNear(toVec(half), start);
             if ((toPoint(hit.normal) | anchor) < mSettings.creaseCos) {
                 mMesh.set_point(v, mPrevious[v.idx()]);
+                kept[v.idx()] = 0;
                 continue;
             }
         }
-        moved[v.idx()] = 1;
+        kept[v.idx()] = 2;
         start = hit.triangle;
         mMesh.set_point(v, toPoint(hit.point));
         mPatch.refNormal(v) = toPoint(hit.normal);
     }
-    // Undo the moves that fold a triangle over or uncover the place the vertex left, until
-    // no move does (a serial sweep in vertex order: the same result every time).
-    auto agreedBefore = [&](FaceHandle f) {
+    // A triangle folded now that agreed before the round, or after relaxation (relaxation
+    // unfolds what attaching the samples folded), must not stay folded: step the vertex back,
+    // from projected to relaxed to where it was, until no move folds a triangle or uncovers
+    // the place the vertex left (a serial sweep in vertex order: the same result every time).
+    auto agreedAt = [&](FaceHandle f, const std::vector<Point>& at) {
         auto it = mMesh.cfv_iter(f);
         const VertexHandle a = *it, b = *++it, c = *++it;
-        const Point n = (mPrevious[b.idx()] - mPrevious[a.idx()])
-            % (mPrevious[c.idx()] - mPrevious[a.idx()]);
+        const Point n = (at[b.idx()] - at[a.idx()]) % (at[c.idx()] - at[a.idx()]);
         return (n | normals[a.idx()]) > 0.0 && (n | normals[b.idx()]) > 0.0
             && (n | normals[c.idx()]) > 0.0;
     };
     std::vector<VertexHandle> check, next;
-    for (const VertexHandle v : mMesh.vertices()) if (moved[v.idx()]) check.push_back(v);
-    for (int round = 0; round < 20 && !check.empty(); ++round) {
+    for (const VertexHandle v : mMesh.vertices()) if (kept[v.idx()]) check.push_back(v);
+    for (int round = 0; round < 40 && !check.empty(); ++round) {
         next.clear();
         for (const VertexHandle v : check) {
-            if (!moved[v.idx()]) continue;
+            if (!kept[v.idx()]) continue;
             bool keep = true;
             // The vertex is on its new faces: a short move cannot uncover its old place.
             double nearest2 = (mMesh.point(v) - mPrevious[v.idx()]).sqrnorm();
@@ -402,14 +408,17 @@ IsotropicRemesher::projectToReference()
                 if (nearest2 > mSettings.deviation2) {
                     nearest2 = std::min(nearest2, distance2(mPrevious[v.idx()], a, b, c));
                 }
-                if (!agrees(f) && agreedBefore(f)) keep = false;
+                if (!agrees(f) && (agreedAt(f, mPrevious) || agreedAt(f, relaxed))) {
+                    keep = false;
+                }
             }
             if (keep && nearest2 <= mSettings.deviation2) continue;
-            moved[v.idx()] = 0;
-            mMesh.set_point(v, mPrevious[v.idx()]);
+            --kept[v.idx()];
+            mMesh.set_point(v, kept[v.idx()] ? relaxed[v.idx()] : mPrevious[v.idx()]);
             mPatch.refNormal(v) = normals[v.idx()];
-            // Its neighbours' faces changed: look at them again.
-            for (const VertexHandle w : mMesh.vv_range(v)) if (moved[w.idx()]) next.push_back(w);
+            // It and its neighbours' faces changed: look at them again.
+            if (kept[v.idx()]) next.push_back(v);
+            for (const VertexHandle w : mMesh.vv_range(v)) if (kept[w.idx()]) next.push_back(w);
         }
         std::sort(next.begin(), next.end());
         next.erase(std::unique(next.begin(), next.end()), next.end());

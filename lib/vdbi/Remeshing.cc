@@ -6,6 +6,7 @@
 #include <vdbi/Interruption.h>
 #include <vdbi/IsotropicRemeshing.h>
 #include <vdbi/PatchBoundary.h>
+#include <vdbi/PatchSeparation.h>
 #include <vdbi/ReferenceSurface.h>
 
 #include <openvdb/Exceptions.h>
@@ -35,6 +36,8 @@ constexpr int CURVE_SMOOTHING = 10, SURFACE_SMOOTHING = 10;
 /// How far, in voxels, a collapse, flip or relaxation move may take the surface from a point
 /// it had.
 constexpr double DEVIATION = 0.4;
+/// How far, in voxels, separatePatches() moves a vertex per round and at most.
+constexpr double SEPARATION_STEP = 0.1, SEPARATION_MOVE = 0.4;
 
 /// World size of one voxel per axis from the point keys: the smallest ratio of world to key
 /// distance along triangle edges parallel to that axis of the key grid; zeros without keys.
@@ -186,6 +189,16 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     }
     out.keyScale = 0;
     stats.remeshingSeconds = secondsSince(clock);
+
+    checkInterrupt(options.interrupter, "remeshing");
+    std::vector<std::uint8_t> movable(out.points.size(), 1);
+    std::fill(movable.begin(), movable.begin() + sampleCount, 0);
+    SeparationSettings separation;
+    separation.cellSize = options.edgeLength;
+    separation.step = SEPARATION_STEP * smallestVoxel;
+    separation.maxMove = SEPARATION_MOVE * smallestVoxel;
+    separatePatches(out, movable, separation);
+    stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;
 }

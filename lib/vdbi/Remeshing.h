@@ -36,6 +36,7 @@ struct RemeshStatistics
     double curveSeconds = 0.0;       ///< feature curves found, smoothed and resampled
     double referenceSeconds = 0.0;   ///< the reference surfaces of all patches
     double remeshingSeconds = 0.0;   ///< boundaries attached, rounds, output assembled
+    double separationSeconds = 0.0;  ///< crossing patches pushed apart (separatePatches())
 };
 
 /// @brief Remeshes every patch to the target edge length, keeping every guarantee of the
@@ -59,6 +60,9 @@ struct RemeshStatistics
 ///    point it had; no relaxation move drags a vertex across a crease. So a patch never
 ///    loses its topology (every label keeps its Euler characteristic) and a small patch
 ///    keeps a fan around an inner vertex.
+/// 5. Where triangles of two patches sharing a label cross near their common curve (each
+///    patch was remeshed without seeing the other), separatePatches() moves their inner
+///    vertices apart along the normals, at most 0.4 voxel.
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.

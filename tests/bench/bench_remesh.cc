@@ -2,7 +2,8 @@
 /// @file bench/bench_remesh.cc
 /// @brief Remeshing of the frog (or another sample volume) at edge lengths of 1, 2 and 4
 /// voxels: wall seconds per stage (extraction, feature curves, reference surfaces,
-/// remeshing), CPU seconds of extraction + remeshing, triangles and the quality figures.
+/// remeshing, separation of crossing patches), CPU seconds of extraction + remeshing,
+/// triangles and the quality figures.
 /// @details Every figure is the median of --reps runs (default 3), all lengths interleaved
 /// round by round so that a change of load on a shared machine hits them alike. With --check
 /// the remeshed meshes also go through the independent checks of the tests (MeshChecker,
@@ -45,7 +46,7 @@ using vdbi_bench::seconds;
 struct Runs
 {
     double voxels = 1.0;
-    std::vector<double> extraction, curves, reference, remeshing, total, cpu;
+    std::vector<double> extraction, curves, reference, remeshing, separation, total, cpu;
     vdbi::InterfaceMesh raw, remeshed;
 };
 
@@ -98,18 +99,19 @@ main(int argc, char** argv)
             r.curves.push_back(stats.curveSeconds);
             r.reference.push_back(stats.referenceSeconds);
             r.remeshing.push_back(stats.remeshingSeconds);
+            r.separation.push_back(stats.separationSeconds);
             r.total.push_back(seconds(t0, t2));
             r.raw = std::move(raw);
             r.remeshed = std::move(out);
         }
     }
 
-    std::printf("\n%-8s %10s %8s %10s %10s %10s %10s\n", "length", "extraction", "curves",
-                "reference", "remeshing", "total wall", "total CPU");
+    std::printf("\n%-8s %10s %8s %10s %10s %10s %10s %10s\n", "length", "extraction",
+                "curves", "reference", "remeshing", "separation", "total wall", "total CPU");
     for (const Runs& r : runs) {
-        std::printf("%-8g %10.2f %8.2f %10.2f %10.2f %10.2f %10.2f\n", r.voxels,
+        std::printf("%-8g %10.2f %8.2f %10.2f %10.2f %10.2f %10.2f %10.2f\n", r.voxels,
                     median(r.extraction), median(r.curves), median(r.reference),
-                    median(r.remeshing), median(r.total), median(r.cpu));
+                    median(r.remeshing), median(r.separation), median(r.total), median(r.cpu));
     }
     std::printf("\n");
     for (const Runs& r : runs) {

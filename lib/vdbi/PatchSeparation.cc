@@ -1,0 +1,234 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/PatchSeparation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <utility>
+
+namespace vdbi {
+
+namespace {
+
+using Vec3d = openvdb::Vec3d;
+
+/// Six times the signed volume of tetrahedron (a, b, c, d): > 0 when d is on the side of
+/// triangle (a, b, c) its counter-clockwise normal points to.
+inline double
+orient(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& d)
+{
+    return (b - a).cross(c - a).dot(d - a);
+}
+
+/// Does segment pq pass through the inside of triangle abc (touching does not count)?
+bool
+segmentCrossesTriangle(const Vec3d& p, const Vec3d& q, const Vec3d& a, const Vec3d& b,
+                       const Vec3d& c)
+{
+    const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
+    if (!((dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0))) return false;
+    const double o1 = orient(p, q, a, b), o2 = orient(p, q, b, c), o3 = orient(p, q, c, a);
+    return (o1 > 0.0 && o2 > 0.0 && o3 > 0.0) || (o1 < 0.0 && o2 < 0.0 && o3 < 0.0);
+}
+
+/// Do triangles @a s and @a t cross other than in their shared corners? Triangles sharing
+/// an edge are left alone (they can only meet elsewhere when they lie in one plane).
+bool
+trianglesCross(const std::vector<Vec3d>& points, const openvdb::Vec3I& s,
+               const openvdb::Vec3I& t)
+{
+    int shared = 0, si = -1, ti = -1;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (s[i] == t[j]) {
+                ++shared;
+                si = i;
+                ti = j;
+            }
+        }
+    }
+    if (shared >= 2) return false;
+    auto edgeCrosses = [&](const openvdb::Vec3I& e, int i, const openvdb::Vec3I& f) {
+        return segmentCrossesTriangle(points[e[i]], points[e[(i + 1) % 3]], points[f[0]],
+                                      points[f[1]], points[f[2]]);
+    };
+    if (shared == 1) {
+        // Only the edges opposite the shared corner can meet the other triangle elsewhere.
+        return edgeCrosses(s, (si + 1) % 3, t) || edgeCrosses(t, (ti + 1) % 3, s);
+    }
+    for (int i = 0; i < 3; ++i) {
+        if (edgeCrosses(s, i, t) || edgeCrosses(t, i, s)) return true;
+    }
+    return false;
+}
+
+/// Triangles bucketed by the grid cells their bounding boxes overlap.
+class CandidateGrid
+{
+public:
+    CandidateGrid(const InterfaceMesh& mesh, double cellSize)
+        : mMesh(mesh), mInverse(1.0 / cellSize)
+    {
+        const std::size_t count = mesh.triangles.size();
+        mLow.resize(count);
+        mHigh.resize(count);
+        for (std::uint32_t f = 0; f < count; ++f) {
+            const openvdb::Vec3I& t = mesh.triangles[f];
+            openvdb::Vec3i lo = cell(mesh.points[t[0]]), hi = lo;
+            for (int i = 1; i < 3; ++i) {
+                const openvdb::Vec3i c = cell(mesh.points[t[i]]);
+                lo = openvdb::math::minComponent(lo, c);
+                hi = openvdb::math::maxComponent(hi, c);
+            }
+            mLow[f] = lo;
+            mHigh[f] = hi;
+            for (int x = lo[0]; x <= hi[0]; ++x) {
+                for (int y = lo[1]; y <= hi[1]; ++y) {
+                    for (int z = lo[2]; z <= hi[2]; ++z) {
+                        mCells[key(openvdb::Vec3i(x, y, z))].push_back(f);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Every pair (first < second) of triangles sharing a cell with at least one of them
+    /// active, once each, sorted.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>
+    candidatePairs(const std::vector<char>& active) const
+    {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+        for (const auto& [cellKey, list] : mCells) {
+            for (std::size_t i = 0; i < list.size(); ++i) {
+                for (std::size_t j = i + 1; j < list.size(); ++j) {
+                    const std::uint32_t f = list[i], g = list[j];
+                    if (!active[f] && !active[g]) continue;
+                    // A pair sharing several cells is taken in the lowest one.
+                    openvdb::Vec3i lo;
+                    for (int k = 0; k < 3; ++k) lo[k] = std::max(mLow[f][k], mLow[g][k]);
+                    if (key(lo) != cellKey) continue;
+                    pairs.emplace_back(std::min(f, g), std::max(f, g));
+                }
+            }
+        }
+        std::sort(pairs.begin(), pairs.end());
+        return pairs;
+    }
+
+private:
+    openvdb::Vec3i cell(const Vec3d& p) const
+    {
+        return openvdb::Vec3i(int(std::floor(p[0] * mInverse)), int(std::floor(p[1] * mInverse)),
+                              int(std::floor(p[2] * mInverse)));
+    }
+    static std::uint64_t key(const openvdb::Vec3i& c)
+    {
+        const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
+        return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
+            | (std::uint64_t(c[2]) & mask);
+    }
+
+    const InterfaceMesh& mMesh;
+    double mInverse;
+    std::vector<openvdb::Vec3i> mLow, mHigh;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> mCells;
+};
+
+} // namespace
+
+
+std::size_t
+separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                const SeparationSettings& settings)
+{
+    const std::size_t pointCount = mesh.points.size(), triangleCount = mesh.triangles.size();
+    std::vector<std::uint32_t> patchOf(triangleCount);
+    for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
+        const InterfacePatch& patch = mesh.patches[p];
+        for (std::size_t t = 0; t < patch.triangleCount; ++t) patchOf[patch.firstTriangle + t] = p;
+    }
+    // Triangles around every point, CSR.
+    std::vector<std::uint32_t> start(pointCount + 1, 0), around(3 * triangleCount);
+    for (const openvdb::Vec3I& t : mesh.triangles) for (int i = 0; i < 3; ++i) ++start[t[i] + 1];
+    for (std::size_t v = 0; v < pointCount; ++v) start[v + 1] += start[v];
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::uint32_t f = 0; f < triangleCount; ++f) {
+            for (int i = 0; i < 3; ++i) around[fill[mesh.triangles[f][i]]++] = f;
+        }
+    }
+    auto faceNormal = [&](std::uint32_t f) {
+        const openvdb::Vec3I& t = mesh.triangles[f];
+        return (mesh.points[t[1]] - mesh.points[t[0]]).cross(mesh.points[t[2]] - mesh.points[t[0]]);
+    };
+    const std::vector<Vec3d> origin = mesh.points;
+    std::vector<char> active(triangleCount, 1);
+    std::vector<int> push(pointCount, 0);
+    std::vector<std::uint32_t> pushed;
+    std::vector<Vec3d> before;
+    std::size_t crossing = 0;
+    for (int round = 0; round < settings.rounds; ++round) {
+        const CandidateGrid grid(mesh, settings.cellSize);
+        crossing = 0;
+        pushed.clear();
+        for (const auto& [f, g] : grid.candidatePairs(active)) {
+            if (patchOf[f] == patchOf[g]) continue;
+            if (!trianglesCross(mesh.points, mesh.triangles[f], mesh.triangles[g])) continue;
+            ++crossing;
+            const InterfacePatch &pf = mesh.patches[patchOf[f]], &pg = mesh.patches[patchOf[g]];
+            Label shared;
+            if (pf.a == pg.a || pf.a == pg.b) shared = pf.a;
+            else if (pf.b == pg.a || pf.b == pg.b) shared = pf.b;
+            else continue;
+            // The normal points from a into b: away from the shared label is against it when
+            // the shared label is b.
+            for (const std::uint32_t h : {f, g}) {
+                const InterfacePatch& patch = h == f ? pf : pg;
+                const int away = shared == patch.b ? -1 : 1;
+                for (int i = 0; i < 3; ++i) {
+                    const std::uint32_t v = mesh.triangles[h][i];
+                    if (!movable[v]) continue;
+                    if (push[v] == 0) pushed.push_back(v);
+                    push[v] += away;
+                }
+            }
+        }
+        if (crossing == 0) break;
+        std::fill(active.begin(), active.end(), 0);
+        std::sort(pushed.begin(), pushed.end());
+        bool moved = false;
+        for (const std::uint32_t v : pushed) {
+            const int direction = push[v];
+            push[v] = 0;
+            if (direction == 0) continue;
+            Vec3d normal(0.0);
+            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) normal += faceNormal(around[i]);
+            const double length = normal.length();
+            if (!(length > 0.0)) continue;
+            const Vec3d old = mesh.points[v];
+            const Vec3d next = old + normal * (settings.step * (direction > 0 ? 1.0 : -1.0)
+                                                / length);
+            if ((next - origin[v]).length() > settings.maxMove) continue;
+            before.clear();
+            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+                before.push_back(faceNormal(around[i]));
+            }
+            mesh.points[v] = next;
+            bool turned = false;
+            for (std::uint32_t i = start[v]; i < start[v + 1] && !turned; ++i) {
+                turned = !(faceNormal(around[i]).dot(before[i - start[v]]) > 0.0);
+            }
+            if (turned) {
+                mesh.points[v] = old;
+                continue;
+            }
+            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) active[around[i]] = 1;
+            moved = true;
+        }
+        if (!moved) break;
+    }
+    return crossing;
+}
+
+} // namespace vdbi

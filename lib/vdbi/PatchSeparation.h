@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file vdbi/PatchSeparation.h
+/// @brief After remeshing: triangles of two patches that cross each other near a shared
+/// feature curve are pushed apart by moving their inner vertices (ALGORITHM.md §5).
+
+#ifndef VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
+#define VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
+
+#include <vdbi/InterfaceMesh.h>
+
+#include <openvdb/Types.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace vdbi {
+
+/// Settings of separatePatches().
+struct SeparationSettings
+{
+    /// Grid cell side for the candidate pairs: about the edge length.
+    double cellSize = 1.0;
+    /// Distance a vertex moves per round, and the most it may move over all rounds.
+    double step = 0.1, maxMove = 0.3;
+    int rounds = 16;
+};
+
+/// @brief Moves inner vertices so that triangles of different patches cross less.
+/// @details Every patch is remeshed on its own, so near a curve shared with another patch the
+/// strip of triangles along the curve may swing through the other patch where the label
+/// between them is thin (a wedge of one voxel). Two such patches always share a label; the
+/// wedge of that label has turned inside out. Each round finds the crossing pairs (segment
+/// through triangle, shared corners excepted; a uniform grid gives the candidates) and moves
+/// each free corner of a crossing triangle one step along its vertex normal, away from the
+/// shared label: both sides turn back and the wedge opens. A move that would turn one of the
+/// vertex's triangles over, or take it farther than maxMove from its start, is not made.
+/// Serial, in sorted order: the result depends on the mesh alone.
+/// @param mesh     [in,out] the remeshed patches
+/// @param movable  one flag per point: nonzero for a free (inner) vertex
+/// @return the number of crossing pairs left (of those looked at in the last round)
+std::size_t separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                            const SeparationSettings& settings);
+
+} // namespace vdbi
+
+#endif // VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
