@@ -155,6 +155,16 @@ keyOf(int a, int ka, int kb, int kc)
     return LocalKey(ka * KEY_UNIT[a] + kb * KEY_UNIT[(a + 1) % 3] + kc * KEY_UNIT[(a + 2) % 3]);
 }
 
+/// A fine face's labels (lower, upper) in one word, to compare pairs in one step.
+std::uint64_t
+packPair(Label lower, Label upper)
+{
+    return (std::uint64_t(std::uint32_t(lower)) << 32) | std::uint32_t(upper);
+}
+Label lowerOf(std::uint64_t pair) { return Label(std::uint32_t(pair >> 32)); }
+Label upperOf(std::uint64_t pair) { return Label(std::uint32_t(pair)); }
+bool isDegenerate(std::uint64_t pair) { return lowerOf(pair) == upperOf(pair); }
+
 /// Emits the faces owned by the voxels of one block (face (v, a) is owned by voxel v).
 /// Probes use global coordinates, keys the block's local ones.
 class FaceWalker
@@ -163,16 +173,18 @@ public:
     explicit FaceWalker(const RefinedLabels& labels)
         : mS(labels.subdivision)
         , mFine(labels.fine->tree())
-        , mFineLabels(std::size_t(mS) * mS * mS)
         , mFacePairs(std::size_t(mS) * mS)
         , mUsed(std::size_t(mS) * mS)
-    {}
+    {
+        std::fill(std::begin(mFineSlot), std::end(mFineSlot), -1);
+    }
 
     void walk(const LabelWindow& w, const MaskWindow* mask, const openvdb::CoordBBox& owners,
               BlockMesh& out)
     {
         mOut = &out;
         mIndex.reset(out.keys);
+        forgetFineVoxels();
         const Coord& o = w.origin();
         const bool clipped = !owners.empty();
         for (int i = 0; i < BLOCK_DIM; ++i) {
@@ -184,13 +196,17 @@ public:
                     const int flat = LabelWindow::index(i + 1, j + 1, k + 1);
                     const Label upper = w.data()[flat];
                     const bool upperSub = mask && mask->at(flat);
-                    if (upperSub) interiorFaces(v, local, upper);
+                    if (upperSub) interiorFaces(local, fineVoxel(v, flat, upper), upper);
                     for (int a = 0; a < 3; ++a) {
                         const int lowerFlat = flat - LabelWindow::STRIDE[a];
                         const Label lower = w.data()[lowerFlat];
                         const bool lowerSub = mask && mask->at(lowerFlat);
                         if (upperSub || lowerSub) {
-                            splitFace(v, local, a, lower, lowerSub, upper, upperSub);
+                            Coord u = v;
+                            u[a] -= 1;
+                            splitFace(local, a, lower,
+                                lowerSub ? fineVoxel(u, lowerFlat, lower) : nullptr, upper,
+                                upperSub ? fineVoxel(v, flat, upper) : nullptr);
                         } else if (lower != upper) {
                             coarseFace(local, a, lower, upper, flat, mask);
                         }
@@ -207,7 +223,8 @@ private:
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
-        if (mOut->patches.empty() || mOut->patches[mLastPatch] != pair) {
+        if (mOut->patches.empty() || mOut->patches[mLastPatch][0] != pair[0]
+            || mOut->patches[mLastPatch][1] != pair[1]) {
             const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
             mLastPatch = std::uint32_t(it - mOut->patches.begin());
             if (it == mOut->patches.end()) mOut->patches.push_back(pair);
@@ -289,39 +306,97 @@ private:
              corner + LocalKey(K * uc));
     }
 
-    /// Label of fine voxel @a f inside a coarse voxel labelled @a coarse.
-    Label fineLabel(const Coord& f, Label coarse, bool subdivided)
+    /// The s^3 fine labels of subdivided coarse voxel @a v at window index @a flat, labelled
+    /// @a coarse, at ((x * s) + y) * s + z; read once per block from the leaf buffers.
+    const Label* fineVoxel(const Coord& v, int flat, Label coarse)
     {
-        Label l;
-        return (subdivided && mFine.probeValue(f, l)) ? l : coarse;
+        if (mFineSlot[flat] < 0) {
+            mFineSlot[flat] = int(mFineFlats.size());
+            mFineFlats.push_back(flat);
+            if (mFineStore.size() < mFineFlats.size()) {
+                mFineStore.emplace_back(new Label[std::size_t(mS) * mS * mS]);
+            }
+            readFineVoxel(v, coarse, mFineStore[std::size_t(mFineSlot[flat])].get());
+        }
+        return mFineStore[std::size_t(mFineSlot[flat])].get();
+    }
+
+    /// Starts a block: the window voxels change, the buffers are kept.
+    void forgetFineVoxels()
+    {
+        for (const int flat : mFineFlats) mFineSlot[flat] = -1;
+        mFineFlats.clear();
+    }
+
+    /// Fills @a out as fineVoxel() describes, leaf by leaf: a fine voxel that is not active
+    /// keeps the coarse label.
+    void readFineVoxel(const Coord& v, Label coarse, Label* out)
+    {
+        using LeafT = openvdb::Int32Tree::LeafNodeType;
+        const int s = mS;
+        const Coord lo(s * v.x(), s * v.y(), s * v.z());
+        // Per axis, where [lo, lo + s) crosses into the next leaf (at most 3 pieces, s <= 15).
+        int cut[3][4], pieces[3];
+        for (int a = 0; a < 3; ++a) {
+            pieces[a] = 0;
+            cut[a][0] = 0;
+            for (int t = 0; t < s; ) {
+                t = std::min(s, t + int(LeafT::DIM) - ((lo[a] + t) & int(LeafT::DIM - 1)));
+                cut[a][++pieces[a]] = t;
+            }
+        }
+        for (int px = 0; px < pieces[0]; ++px) {
+            for (int py = 0; py < pieces[1]; ++py) {
+                for (int pz = 0; pz < pieces[2]; ++pz) {
+                    const Coord first = lo.offsetBy(cut[0][px], cut[1][py], cut[2][pz]);
+                    const LeafT* leaf = mFine.probeConstLeaf(first);
+                    Label fill = coarse;
+                    if (!leaf && mFine.isValueOn(first)) fill = mFine.getValue(first);
+                    for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
+                        for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
+                            Label* dst = out + (x * s + y) * s;
+                            if (!leaf) {
+                                for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z) dst[z] = fill;
+                                continue;
+                            }
+                            // Inside one leaf, z is the fastest axis of the buffer.
+                            openvdb::Index i = LeafT::coordToOffset(
+                                lo.offsetBy(x, y, cut[2][pz]));
+                            for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z, ++i) {
+                                dst[z] = leaf->isValueOn(i) ? leaf->getValue(i) : coarse;
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// A coarse face next to a subdivided voxel: its s x s fine faces, each on its own.
-    void splitFace(const Coord& v, const Coord& local, int a, Label lower, bool lowerSub,
-                   Label upper, bool upperSub)
+    /// @a lowerFine, @a upperFine: the fine labels (fineVoxel()) of a subdivided side, else null.
+    void splitFace(const Coord& local, int a, Label lower, const Label* lowerFine,
+                   Label upper, const Label* upperFine)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const int s = mS;
+        const int stride[3] = {s * s, s, 1};
+        const int lowerPlane = (s - 1) * stride[a]; // the lower voxel's fine voxels at the face
         bool any = false;
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
-                Coord f;
-                f[a] = s * v[a];
-                f[b] = s * v[b] + jb;
-                f[c] = s * v[c] + jc;
-                Coord g = f;
-                g[a] -= 1;
-                const LabelPair pair{fineLabel(g, lower, lowerSub),
-                                     fineLabel(f, upper, upperSub)};
+                const int idx = jb * stride[b] + jc * stride[c];
+                const std::uint64_t pair = packPair(lowerFine ? lowerFine[lowerPlane + idx] : lower,
+                                                    upperFine ? upperFine[idx] : upper);
                 mFacePairs[jb * s + jc] = pair;
-                any = any || pair[0] != pair[1];
+                any = any || !isDegenerate(pair);
             }
         }
         if (any) fineFaceGrid(Coord(s * local.x(), s * local.y(), s * local.z()), a);
     }
 
     /// Emits the s x s fine faces at local fine point @a corner with normal @a a, whose label
-    /// pairs (lower, upper) are in mFacePairs (index jb * s + jc along the next two axes).
+    /// pairs (packPair(lower, upper)) are in mFacePairs (index jb * s + jc along the next two
+    /// axes).
     /// @details Faces with the same pair are merged greedily into rectangles, each a fan
     /// from its centre to all fine points on its boundary: the same surface in fewer
     /// triangles. No other face can use a point inside such a rectangle (it would need two
@@ -329,14 +404,20 @@ private:
     void fineFaceGrid(const Coord& corner, int a)
     {
         const int s = mS;
+        const std::uint64_t* pairs = mFacePairs.data();
+        if (std::all_of(pairs + 1, pairs + s * s, [&](std::uint64_t p) { return p == pairs[0]; })) {
+            // One pair over the whole grid: the greedy merge makes it one rectangle.
+            rectangle(corner, a, 0, 0, s, s, pairs[0]);
+            return;
+        }
         std::fill(mUsed.begin(), mUsed.end(), char(0));
-        auto isFree = [&](int x, int y, const LabelPair& pair) {
-            return !mUsed[x * s + y] && mFacePairs[x * s + y] == pair;
+        auto isFree = [&](int x, int y, std::uint64_t pair) {
+            return !mUsed[x * s + y] && pairs[x * s + y] == pair;
         };
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
-                const LabelPair pair = mFacePairs[jb * s + jc];
-                if (mUsed[jb * s + jc] || pair[0] == pair[1]) continue;
+                const std::uint64_t pair = pairs[jb * s + jc];
+                if (mUsed[jb * s + jc] || isDegenerate(pair)) continue;
                 int w = 1;
                 while (jc + w < s && isFree(jb, jc + w, pair)) ++w;
                 int h = 1;
@@ -345,22 +426,21 @@ private:
                     if (grow) ++h;
                 }
                 for (int x = jb; x < jb + h; ++x) {
-                    for (int y = jc; y < jc + w; ++y) mUsed[x * s + y] = 1;
+                    std::fill_n(mUsed.begin() + x * s + jc, w, char(1));
                 }
-                rectangle(corner, a, jb, jc, h, w, pair[0], pair[1]);
+                rectangle(corner, a, jb, jc, h, w, pair);
             }
         }
     }
 
     /// Fine faces [jb, jb + h) x [jc, jc + w) of the grid at @a corner as one polygon.
-    void rectangle(const Coord& corner, int a, int jb, int jc, int h, int w,
-                   Label lower, Label upper)
+    void rectangle(const Coord& corner, int a, int jb, int jc, int h, int w, std::uint64_t pair)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const std::int32_t ub = KEY_UNIT[b], uc = KEY_UNIT[c];
         const LocalKey base = keyOf(a, 2 * corner[a], 2 * (corner[b] + jb),
                                     2 * (corner[c] + jc));
-        setPatch(lower, upper);
+        setPatch(lowerOf(pair), upperOf(pair));
         if (w * h <= w + h) { // a fan would not be smaller than the quads
             for (int x = 0; x < h; ++x) {
                 for (int y = 0; y < w; ++y) {
@@ -376,18 +456,14 @@ private:
         fan(base + LocalKey(h * ub + w * uc), base, pieces, step);
     }
 
-    /// Fine faces inside subdivided voxel @a v, between its own subvoxels.
-    void interiorFaces(const Coord& v, const Coord& local, Label coarse)
+    /// Fine faces inside the subdivided voxel at @a local labelled @a coarse, between its own
+    /// fine voxels @a fine (see fineVoxel()).
+    void interiorFaces(const Coord& local, const Label* fine, Label coarse)
     {
         const int s = mS;
-        const Coord base(s * v.x(), s * v.y(), s * v.z());
-        bool changed = false;
-        for (int x = 0; x < s; ++x) for (int y = 0; y < s; ++y) for (int z = 0; z < s; ++z) {
-            Label& l = mFineLabels[(x * s + y) * s + z];
-            l = fineLabel(base.offsetBy(x, y, z), coarse, true);
-            changed = changed || l != coarse;
+        if (std::all_of(fine, fine + s * s * s, [coarse](Label l) { return l == coarse; })) {
+            return;
         }
-        if (!changed) return;
         const int stride[3] = {s * s, s, 1};
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -397,9 +473,9 @@ private:
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
                         const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        const LabelPair pair{mFineLabels[idx - stride[a]], mFineLabels[idx]};
+                        const std::uint64_t pair = packPair(fine[idx - stride[a]], fine[idx]);
                         mFacePairs[jb * s + jc] = pair;
-                        any = any || pair[0] != pair[1];
+                        any = any || !isDegenerate(pair);
                     }
                 }
                 if (!any) continue; // no face in this plane
@@ -412,8 +488,12 @@ private:
 
     const int mS;
     openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> mFine;
-    std::vector<Label> mFineLabels;
-    std::vector<LabelPair> mFacePairs;
+    /// Per window voxel: index of its fine labels in mFineStore, or -1 (not read yet).
+    int mFineSlot[LabelWindow::DIM * LabelWindow::DIM * LabelWindow::DIM];
+    std::vector<int> mFineFlats; ///< the window voxels whose mFineSlot is set
+    /// Buffers of s^3 fine labels; they never move, so fineVoxel()'s pointers stay valid.
+    std::vector<std::unique_ptr<Label[]>> mFineStore;
+    std::vector<std::uint64_t> mFacePairs;
     std::vector<char> mUsed;
     KeyIndex mIndex;
     BlockMesh* mOut = nullptr;
