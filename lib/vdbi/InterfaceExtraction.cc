@@ -52,6 +52,15 @@ public:
         return true;
     }
     bool at(int flat) const { return mOn[flat]; }
+    /// Whether a voxel of the rows of LabelWindow::isUniform() is subdivided.
+    bool anyOn(const int* rows, int count) const
+    {
+        bool any = false;
+        for (int r = 0; r < count; ++r) {
+            for (int z = 0; z < DIM - 1; ++z) any |= mOn[rows[r] + z];
+        }
+        return any;
+    }
 
 private:
     static constexpr int DIM = LabelWindow::DIM;
@@ -189,6 +198,10 @@ public:
         const bool clipped = !owners.empty();
         for (int i = 0; i < BLOCK_DIM; ++i) {
             for (int j = 0; j < BLOCK_DIM; ++j) {
+                // The voxels (i, j, 0 .. 7) and their lower neighbours lie in these rows.
+                const int rows[3] = {LabelWindow::index(i + 1, j + 1, 0),
+                    LabelWindow::index(i, j + 1, 0), LabelWindow::index(i + 1, j, 0)};
+                if (w.isUniform(rows, 3) && !(mask && mask->anyOn(rows, 3))) continue;
                 for (int k = 0; k < BLOCK_DIM; ++k) {
                     const Coord v = o.offsetBy(i, j, k);
                     if (clipped && !owners.isInside(v)) continue;
