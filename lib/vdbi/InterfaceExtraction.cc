@@ -93,9 +93,11 @@ struct BlockMesh
     std::vector<std::uint32_t> patchOf;     ///< per triangle: index into patches
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
     /// A key on the block's max faces is numbered by the neighbour at origin + 8d, where bit a
-    /// of d says the key is on the max face along a: handedOver[d] holds these keys in that
-    /// neighbour's local coordinates (d = 0: unused).
-    std::array<std::vector<LocalKey>, 8> handedOver;
+    /// of d says the key is on the max face along a; the others (d = 0) by the block itself.
+    /// byOwner[d] holds the indices into keys of those numbered by the block at origin + 8d.
+    std::array<std::vector<std::uint32_t>, 8> byOwner;
+    /// Per key: its index among the keys that its owner numbers (set by the owner).
+    std::vector<std::uint32_t> rank;
     std::vector<LocalKey> owned;            ///< keys this block numbers, sorted
 };
 
@@ -587,8 +589,8 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             (d & 2) ? sign * BLOCK_DIM : 0, (d & 4) ? sign * BLOCK_DIM : 0);
     };
 
-    // 1. Triangles per block, with block-local keys. A block keeps the keys it numbers
-    //    itself and hands those on its max faces over to the neighbour that numbers them.
+    // 1. Triangles per block, with block-local keys, sorted by the block that numbers them:
+    //    itself, or for the keys on its max faces the neighbour beyond.
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
         LabelWindow::Accessor acc(labels.coarse->tree());
@@ -608,30 +610,45 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
             block.patchCounts.assign(block.patches.size(), 0);
             for (const std::uint32_t l : block.patchOf) ++block.patchCounts[l];
-            block.owned.reserve(block.keys.size());
-            for (const LocalKey k : block.keys) {
-                const int d = handOverDirection(k, limit);
-                if (d == 0) block.owned.push_back(k);
-                else block.handedOver[d].push_back(k - neighbourShift[d]);
+            for (std::size_t i = 0; i < block.keys.size(); ++i) {
+                block.byOwner[handOverDirection(block.keys[i], limit)].push_back(
+                    std::uint32_t(i));
             }
+            block.rank.resize(block.keys.size());
         }
     }, 4);
     interrupt.throwIfStopped("extraction");
 
-    // 2. Every block numbers its own keys and those its neighbours at origin - 8d handed
-    //    over, in key order.
+    // 2. Every block numbers its own keys and those of its neighbours at origin - 8d on their
+    //    max faces, in key order, and tells every key its rank: each key has one owner, so
+    //    the writes of different blocks go to different places.
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
+        // key << 32 | d << 29 | i: key i of the block at origin - 8d, in this block's local
+        // coordinates. A block holds fewer than 2^29 keys ((8 * 2s + 1)^3 <= 241^3 < 2^29).
+        std::vector<std::uint64_t> entries;
+        BlockMesh* from[8];
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            std::vector<LocalKey>& owned = blocks[n].owned;
-            for (int d = 1; d < 8; ++d) {
-                const std::ptrdiff_t x = blockIndex(neighbourOrigin(n, d, -1));
-                if (x < 0) continue;
-                const std::vector<LocalKey>& given = blocks[std::size_t(x)].handedOver[d];
-                owned.insert(owned.end(), given.begin(), given.end());
+            entries.clear();
+            for (int d = 0; d < 8; ++d) {
+                const std::ptrdiff_t x = d == 0 ? std::ptrdiff_t(n)
+                    : blockIndex(neighbourOrigin(n, d, -1));
+                from[d] = x < 0 ? nullptr : &blocks[std::size_t(x)];
+                if (!from[d]) continue;
+                for (const std::uint32_t i : from[d]->byOwner[d]) {
+                    const LocalKey k = from[d]->keys[i] - neighbourShift[d];
+                    entries.push_back((std::uint64_t(k) << 32) | (std::uint64_t(d) << 29) | i);
+                }
             }
-            std::sort(owned.begin(), owned.end());
-            owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
+            std::sort(entries.begin(), entries.end());
+            std::vector<LocalKey>& owned = blocks[n].owned;
+            owned.reserve(entries.size());
+            for (const std::uint64_t e : entries) {
+                const auto k = LocalKey(e >> 32);
+                if (owned.empty() || owned.back() != k) owned.push_back(k);
+                from[(e >> 29) & 7u]->rank[e & ((1u << 29) - 1)] =
+                    std::uint32_t(owned.size() - 1);
+            }
         }
     }, 8);
     interrupt.throwIfStopped("extraction");
@@ -676,7 +693,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
     }
 
-    // 4. Global indices of every block's keys (found in their owners' sorted keys), its
+    // 4. Global indices of every block's keys (their owners' offsets plus their ranks), its
     //    triangles at their places, the points it numbers. A key k of block X is at coarse
     //    index (2s X + k) / 2s; voxel centres sit at integer indices in OpenVDB, so the cube
     //    of voxel c spans [c - 0.5, c + 0.5] there.
@@ -694,15 +711,16 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             owners[0] = std::ptrdiff_t(n);
             for (int d = 1; d < 8; ++d) owners[d] = blockIndex(neighbourOrigin(n, d, 1));
             global.resize(block.keys.size());
-            for (std::size_t i = 0; i < block.keys.size(); ++i) {
-                const int d = handOverDirection(block.keys[i], limit);
-                const std::ptrdiff_t owner = owners[d];
-                if (owner < 0) { lostKey = true; continue; }
-                const std::vector<LocalKey>& owned = blocks[std::size_t(owner)].owned;
-                const auto it = std::lower_bound(owned.begin(), owned.end(),
-                    block.keys[i] - neighbourShift[d]);
-                global[i] = std::uint32_t(vertexOffset[std::size_t(owner)]
-                    + std::size_t(it - owned.begin()));
+            for (int d = 0; d < 8; ++d) {
+                if (block.byOwner[d].empty()) continue;
+                if (owners[d] < 0) {
+                    lostKey = true;
+                    continue;
+                }
+                const std::size_t offset = vertexOffset[std::size_t(owners[d])];
+                for (const std::uint32_t i : block.byOwner[d]) {
+                    global[i] = std::uint32_t(offset + block.rank[i]);
+                }
             }
             std::vector<std::size_t> next = start[n];
             for (std::size_t t = 0; t < block.patchOf.size(); ++t) {
