@@ -488,12 +488,16 @@ private:
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
                         const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        const std::uint64_t pair = packPair(fine[idx - stride[a]], fine[idx]);
-                        mFacePairs[jb * s + jc] = pair;
-                        any = any || !isDegenerate(pair);
+                        any |= fine[idx - stride[a]] != fine[idx];
                     }
                 }
                 if (!any) continue; // no face in this plane
+                for (int jb = 0; jb < s; ++jb) {
+                    for (int jc = 0; jc < s; ++jc) {
+                        const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
+                        mFacePairs[jb * s + jc] = packPair(fine[idx - stride[a]], fine[idx]);
+                    }
+                }
                 Coord corner(s * local.x(), s * local.y(), s * local.z());
                 corner[a] += t;
                 fineFaceGrid(corner, a);
