@@ -133,6 +133,10 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
 
     for (int i = 0; i < BLOCK_DIM; ++i) {
         for (int j = 0; j < BLOCK_DIM; ++j) {
+            // The 2x2x2 blocks of the points (i, j, 0 .. 7) lie in these four rows.
+            const int rows[4] = {LabelWindow::index(i, j, 0), LabelWindow::index(i + 1, j, 0),
+                LabelWindow::index(i, j + 1, 0), LabelWindow::index(i + 1, j + 1, 0)};
+            if (w.isUniform(rows, 4) && !constrained) continue;
             for (int k = 0; k < BLOCK_DIM; ++k) {
                 const Label* corner = data + LabelWindow::index(i, j, k);
                 Label l[8];

@@ -11,6 +11,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 
 namespace vdbi {
@@ -60,11 +61,33 @@ public:
     PriorityWriter(openvdb::Int32Tree& tree, const LabelPriority& priority)
         : mAcc(tree), mPriority(&priority) {}
 
-    void write(const Coord& f, Label label)
+    /// Writes @a label into every voxel of @a box, leaf by leaf through the leaf buffers.
+    void write(const CoordBBox& box, Label label)
     {
-        Label old;
-        if (mAcc.probeValue(f, old)) label = mPriority->pick(old, label);
-        mAcc.setValueOn(f, label);
+        using LeafT = openvdb::Int32Tree::LeafNodeType;
+        constexpr int MASK = int(LeafT::DIM) - 1;
+        const Coord& lo = box.min();
+        const Coord& hi = box.max();
+        for (int x0 = lo.x(); x0 <= hi.x(); x0 = (x0 & ~MASK) + int(LeafT::DIM)) {
+            for (int y0 = lo.y(); y0 <= hi.y(); y0 = (y0 & ~MASK) + int(LeafT::DIM)) {
+                for (int z0 = lo.z(); z0 <= hi.z(); z0 = (z0 & ~MASK) + int(LeafT::DIM)) {
+                    // The part of the box inside the leaf that holds (x0, y0, z0).
+                    const Coord first(x0, y0, z0);
+                    const Coord last(std::min(hi.x(), x0 | MASK), std::min(hi.y(), y0 | MASK),
+                                     std::min(hi.z(), z0 | MASK));
+                    LeafT* leaf = mAcc.touchLeaf(first);
+                    for (int x = first.x(); x <= last.x(); ++x) {
+                        for (int y = first.y(); y <= last.y(); ++y) {
+                            for (int z = first.z(); z <= last.z(); ++z) {
+                                const openvdb::Index i = LeafT::coordToOffset(Coord(x, y, z));
+                                leaf->setValueOn(i, leaf->isValueOn(i)
+                                    ? mPriority->pick(leaf->getValue(i), label) : label);
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
 private:
@@ -117,8 +140,7 @@ relabelPass(const std::vector<Element>& elements, int s, int k, const RepairOpti
         if (interrupt.poll()) return;
         PriorityWriter writer(*local.local(), options.priority);
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            const CoordBBox box = neighbourhood(extentOf(elements[n]), s, k);
-            for (auto it = box.begin(); it; ++it) writer.write(*it, elements[n].label);
+            writer.write(neighbourhood(extentOf(elements[n]), s, k), elements[n].label);
         }
     };
     const tbb::blocked_range<std::size_t> all(0, elements.size(), 64);

@@ -52,6 +52,15 @@ public:
         return true;
     }
     bool at(int flat) const { return mOn[flat]; }
+    /// Whether a voxel of the rows of LabelWindow::isUniform() is subdivided.
+    bool anyOn(const int* rows, int count) const
+    {
+        bool any = false;
+        for (int r = 0; r < count; ++r) {
+            for (int z = 0; z < DIM - 1; ++z) any |= mOn[rows[r] + z];
+        }
+        return any;
+    }
 
 private:
     static constexpr int DIM = LabelWindow::DIM;
@@ -84,9 +93,11 @@ struct BlockMesh
     std::vector<std::uint32_t> patchOf;     ///< per triangle: index into patches
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
     /// A key on the block's max faces is numbered by the neighbour at origin + 8d, where bit a
-    /// of d says the key is on the max face along a: handedOver[d] holds these keys in that
-    /// neighbour's local coordinates (d = 0: unused).
-    std::array<std::vector<LocalKey>, 8> handedOver;
+    /// of d says the key is on the max face along a; the others (d = 0) by the block itself.
+    /// byOwner[d] holds the indices into keys of those numbered by the block at origin + 8d.
+    std::array<std::vector<std::uint32_t>, 8> byOwner;
+    /// Per key: its index among the keys that its owner numbers (set by the owner).
+    std::vector<std::uint32_t> rank;
     std::vector<LocalKey> owned;            ///< keys this block numbers, sorted
 };
 
@@ -155,6 +166,16 @@ keyOf(int a, int ka, int kb, int kc)
     return LocalKey(ka * KEY_UNIT[a] + kb * KEY_UNIT[(a + 1) % 3] + kc * KEY_UNIT[(a + 2) % 3]);
 }
 
+/// A fine face's labels (lower, upper) in one word, to compare pairs in one step.
+std::uint64_t
+packPair(Label lower, Label upper)
+{
+    return (std::uint64_t(std::uint32_t(lower)) << 32) | std::uint32_t(upper);
+}
+Label lowerOf(std::uint64_t pair) { return Label(std::uint32_t(pair >> 32)); }
+Label upperOf(std::uint64_t pair) { return Label(std::uint32_t(pair)); }
+bool isDegenerate(std::uint64_t pair) { return lowerOf(pair) == upperOf(pair); }
+
 /// Emits the faces owned by the voxels of one block (face (v, a) is owned by voxel v).
 /// Probes use global coordinates, keys the block's local ones.
 class FaceWalker
@@ -163,20 +184,26 @@ public:
     explicit FaceWalker(const RefinedLabels& labels)
         : mS(labels.subdivision)
         , mFine(labels.fine->tree())
-        , mFineLabels(std::size_t(mS) * mS * mS)
         , mFacePairs(std::size_t(mS) * mS)
         , mUsed(std::size_t(mS) * mS)
-    {}
+    {
+        std::fill(std::begin(mFineSlot), std::end(mFineSlot), -1);
+    }
 
     void walk(const LabelWindow& w, const MaskWindow* mask, const openvdb::CoordBBox& owners,
               BlockMesh& out)
     {
         mOut = &out;
         mIndex.reset(out.keys);
+        forgetFineVoxels();
         const Coord& o = w.origin();
         const bool clipped = !owners.empty();
         for (int i = 0; i < BLOCK_DIM; ++i) {
             for (int j = 0; j < BLOCK_DIM; ++j) {
+                // The voxels (i, j, 0 .. 7) and their lower neighbours lie in these rows.
+                const int rows[3] = {LabelWindow::index(i + 1, j + 1, 0),
+                    LabelWindow::index(i, j + 1, 0), LabelWindow::index(i + 1, j, 0)};
+                if (w.isUniform(rows, 3) && !(mask && mask->anyOn(rows, 3))) continue;
                 for (int k = 0; k < BLOCK_DIM; ++k) {
                     const Coord v = o.offsetBy(i, j, k);
                     if (clipped && !owners.isInside(v)) continue;
@@ -184,13 +211,17 @@ public:
                     const int flat = LabelWindow::index(i + 1, j + 1, k + 1);
                     const Label upper = w.data()[flat];
                     const bool upperSub = mask && mask->at(flat);
-                    if (upperSub) interiorFaces(v, local, upper);
+                    if (upperSub) interiorFaces(local, fineVoxel(v, flat, upper), upper);
                     for (int a = 0; a < 3; ++a) {
                         const int lowerFlat = flat - LabelWindow::STRIDE[a];
                         const Label lower = w.data()[lowerFlat];
                         const bool lowerSub = mask && mask->at(lowerFlat);
                         if (upperSub || lowerSub) {
-                            splitFace(v, local, a, lower, lowerSub, upper, upperSub);
+                            Coord u = v;
+                            u[a] -= 1;
+                            splitFace(local, a, lower,
+                                lowerSub ? fineVoxel(u, lowerFlat, lower) : nullptr, upper,
+                                upperSub ? fineVoxel(v, flat, upper) : nullptr);
                         } else if (lower != upper) {
                             coarseFace(local, a, lower, upper, flat, mask);
                         }
@@ -207,7 +238,8 @@ private:
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
-        if (mOut->patches.empty() || mOut->patches[mLastPatch] != pair) {
+        if (mOut->patches.empty() || mOut->patches[mLastPatch][0] != pair[0]
+            || mOut->patches[mLastPatch][1] != pair[1]) {
             const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
             mLastPatch = std::uint32_t(it - mOut->patches.begin());
             if (it == mOut->patches.end()) mOut->patches.push_back(pair);
@@ -289,39 +321,97 @@ private:
              corner + LocalKey(K * uc));
     }
 
-    /// Label of fine voxel @a f inside a coarse voxel labelled @a coarse.
-    Label fineLabel(const Coord& f, Label coarse, bool subdivided)
+    /// The s^3 fine labels of subdivided coarse voxel @a v at window index @a flat, labelled
+    /// @a coarse, at ((x * s) + y) * s + z; read once per block from the leaf buffers.
+    const Label* fineVoxel(const Coord& v, int flat, Label coarse)
     {
-        Label l;
-        return (subdivided && mFine.probeValue(f, l)) ? l : coarse;
+        if (mFineSlot[flat] < 0) {
+            mFineSlot[flat] = int(mFineFlats.size());
+            mFineFlats.push_back(flat);
+            if (mFineStore.size() < mFineFlats.size()) {
+                mFineStore.emplace_back(new Label[std::size_t(mS) * mS * mS]);
+            }
+            readFineVoxel(v, coarse, mFineStore[std::size_t(mFineSlot[flat])].get());
+        }
+        return mFineStore[std::size_t(mFineSlot[flat])].get();
+    }
+
+    /// Starts a block: the window voxels change, the buffers are kept.
+    void forgetFineVoxels()
+    {
+        for (const int flat : mFineFlats) mFineSlot[flat] = -1;
+        mFineFlats.clear();
+    }
+
+    /// Fills @a out as fineVoxel() describes, leaf by leaf: a fine voxel that is not active
+    /// keeps the coarse label.
+    void readFineVoxel(const Coord& v, Label coarse, Label* out)
+    {
+        using LeafT = openvdb::Int32Tree::LeafNodeType;
+        const int s = mS;
+        const Coord lo(s * v.x(), s * v.y(), s * v.z());
+        // Per axis, where [lo, lo + s) crosses into the next leaf (at most 3 pieces, s <= 15).
+        int cut[3][4], pieces[3];
+        for (int a = 0; a < 3; ++a) {
+            pieces[a] = 0;
+            cut[a][0] = 0;
+            for (int t = 0; t < s; ) {
+                t = std::min(s, t + int(LeafT::DIM) - ((lo[a] + t) & int(LeafT::DIM - 1)));
+                cut[a][++pieces[a]] = t;
+            }
+        }
+        for (int px = 0; px < pieces[0]; ++px) {
+            for (int py = 0; py < pieces[1]; ++py) {
+                for (int pz = 0; pz < pieces[2]; ++pz) {
+                    const Coord first = lo.offsetBy(cut[0][px], cut[1][py], cut[2][pz]);
+                    const LeafT* leaf = mFine.probeConstLeaf(first);
+                    Label fill = coarse;
+                    if (!leaf && mFine.isValueOn(first)) fill = mFine.getValue(first);
+                    for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
+                        for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
+                            Label* dst = out + (x * s + y) * s;
+                            if (!leaf) {
+                                for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z) dst[z] = fill;
+                                continue;
+                            }
+                            // Inside one leaf, z is the fastest axis of the buffer.
+                            openvdb::Index i = LeafT::coordToOffset(
+                                lo.offsetBy(x, y, cut[2][pz]));
+                            for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z, ++i) {
+                                dst[z] = leaf->isValueOn(i) ? leaf->getValue(i) : coarse;
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// A coarse face next to a subdivided voxel: its s x s fine faces, each on its own.
-    void splitFace(const Coord& v, const Coord& local, int a, Label lower, bool lowerSub,
-                   Label upper, bool upperSub)
+    /// @a lowerFine, @a upperFine: the fine labels (fineVoxel()) of a subdivided side, else null.
+    void splitFace(const Coord& local, int a, Label lower, const Label* lowerFine,
+                   Label upper, const Label* upperFine)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const int s = mS;
+        const int stride[3] = {s * s, s, 1};
+        const int lowerPlane = (s - 1) * stride[a]; // the lower voxel's fine voxels at the face
         bool any = false;
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
-                Coord f;
-                f[a] = s * v[a];
-                f[b] = s * v[b] + jb;
-                f[c] = s * v[c] + jc;
-                Coord g = f;
-                g[a] -= 1;
-                const LabelPair pair{fineLabel(g, lower, lowerSub),
-                                     fineLabel(f, upper, upperSub)};
+                const int idx = jb * stride[b] + jc * stride[c];
+                const std::uint64_t pair = packPair(lowerFine ? lowerFine[lowerPlane + idx] : lower,
+                                                    upperFine ? upperFine[idx] : upper);
                 mFacePairs[jb * s + jc] = pair;
-                any = any || pair[0] != pair[1];
+                any = any || !isDegenerate(pair);
             }
         }
         if (any) fineFaceGrid(Coord(s * local.x(), s * local.y(), s * local.z()), a);
     }
 
     /// Emits the s x s fine faces at local fine point @a corner with normal @a a, whose label
-    /// pairs (lower, upper) are in mFacePairs (index jb * s + jc along the next two axes).
+    /// pairs (packPair(lower, upper)) are in mFacePairs (index jb * s + jc along the next two
+    /// axes).
     /// @details Faces with the same pair are merged greedily into rectangles, each a fan
     /// from its centre to all fine points on its boundary: the same surface in fewer
     /// triangles. No other face can use a point inside such a rectangle (it would need two
@@ -329,14 +419,20 @@ private:
     void fineFaceGrid(const Coord& corner, int a)
     {
         const int s = mS;
+        const std::uint64_t* pairs = mFacePairs.data();
+        if (std::all_of(pairs + 1, pairs + s * s, [&](std::uint64_t p) { return p == pairs[0]; })) {
+            // One pair over the whole grid: the greedy merge makes it one rectangle.
+            rectangle(corner, a, 0, 0, s, s, pairs[0]);
+            return;
+        }
         std::fill(mUsed.begin(), mUsed.end(), char(0));
-        auto isFree = [&](int x, int y, const LabelPair& pair) {
-            return !mUsed[x * s + y] && mFacePairs[x * s + y] == pair;
+        auto isFree = [&](int x, int y, std::uint64_t pair) {
+            return !mUsed[x * s + y] && pairs[x * s + y] == pair;
         };
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
-                const LabelPair pair = mFacePairs[jb * s + jc];
-                if (mUsed[jb * s + jc] || pair[0] == pair[1]) continue;
+                const std::uint64_t pair = pairs[jb * s + jc];
+                if (mUsed[jb * s + jc] || isDegenerate(pair)) continue;
                 int w = 1;
                 while (jc + w < s && isFree(jb, jc + w, pair)) ++w;
                 int h = 1;
@@ -345,22 +441,21 @@ private:
                     if (grow) ++h;
                 }
                 for (int x = jb; x < jb + h; ++x) {
-                    for (int y = jc; y < jc + w; ++y) mUsed[x * s + y] = 1;
+                    std::fill_n(mUsed.begin() + x * s + jc, w, char(1));
                 }
-                rectangle(corner, a, jb, jc, h, w, pair[0], pair[1]);
+                rectangle(corner, a, jb, jc, h, w, pair);
             }
         }
     }
 
     /// Fine faces [jb, jb + h) x [jc, jc + w) of the grid at @a corner as one polygon.
-    void rectangle(const Coord& corner, int a, int jb, int jc, int h, int w,
-                   Label lower, Label upper)
+    void rectangle(const Coord& corner, int a, int jb, int jc, int h, int w, std::uint64_t pair)
     {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const std::int32_t ub = KEY_UNIT[b], uc = KEY_UNIT[c];
         const LocalKey base = keyOf(a, 2 * corner[a], 2 * (corner[b] + jb),
                                     2 * (corner[c] + jc));
-        setPatch(lower, upper);
+        setPatch(lowerOf(pair), upperOf(pair));
         if (w * h <= w + h) { // a fan would not be smaller than the quads
             for (int x = 0; x < h; ++x) {
                 for (int y = 0; y < w; ++y) {
@@ -376,18 +471,14 @@ private:
         fan(base + LocalKey(h * ub + w * uc), base, pieces, step);
     }
 
-    /// Fine faces inside subdivided voxel @a v, between its own subvoxels.
-    void interiorFaces(const Coord& v, const Coord& local, Label coarse)
+    /// Fine faces inside the subdivided voxel at @a local labelled @a coarse, between its own
+    /// fine voxels @a fine (see fineVoxel()).
+    void interiorFaces(const Coord& local, const Label* fine, Label coarse)
     {
         const int s = mS;
-        const Coord base(s * v.x(), s * v.y(), s * v.z());
-        bool changed = false;
-        for (int x = 0; x < s; ++x) for (int y = 0; y < s; ++y) for (int z = 0; z < s; ++z) {
-            Label& l = mFineLabels[(x * s + y) * s + z];
-            l = fineLabel(base.offsetBy(x, y, z), coarse, true);
-            changed = changed || l != coarse;
+        if (std::all_of(fine, fine + s * s * s, [coarse](Label l) { return l == coarse; })) {
+            return;
         }
-        if (!changed) return;
         const int stride[3] = {s * s, s, 1};
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -397,12 +488,16 @@ private:
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
                         const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        const LabelPair pair{mFineLabels[idx - stride[a]], mFineLabels[idx]};
-                        mFacePairs[jb * s + jc] = pair;
-                        any = any || pair[0] != pair[1];
+                        any |= fine[idx - stride[a]] != fine[idx];
                     }
                 }
                 if (!any) continue; // no face in this plane
+                for (int jb = 0; jb < s; ++jb) {
+                    for (int jc = 0; jc < s; ++jc) {
+                        const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
+                        mFacePairs[jb * s + jc] = packPair(fine[idx - stride[a]], fine[idx]);
+                    }
+                }
                 Coord corner(s * local.x(), s * local.y(), s * local.z());
                 corner[a] += t;
                 fineFaceGrid(corner, a);
@@ -412,8 +507,12 @@ private:
 
     const int mS;
     openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> mFine;
-    std::vector<Label> mFineLabels;
-    std::vector<LabelPair> mFacePairs;
+    /// Per window voxel: index of its fine labels in mFineStore, or -1 (not read yet).
+    int mFineSlot[LabelWindow::DIM * LabelWindow::DIM * LabelWindow::DIM];
+    std::vector<int> mFineFlats; ///< the window voxels whose mFineSlot is set
+    /// Buffers of s^3 fine labels; they never move, so fineVoxel()'s pointers stay valid.
+    std::vector<std::unique_ptr<Label[]>> mFineStore;
+    std::vector<std::uint64_t> mFacePairs;
     std::vector<char> mUsed;
     KeyIndex mIndex;
     BlockMesh* mOut = nullptr;
@@ -494,8 +593,8 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             (d & 2) ? sign * BLOCK_DIM : 0, (d & 4) ? sign * BLOCK_DIM : 0);
     };
 
-    // 1. Triangles per block, with block-local keys. A block keeps the keys it numbers
-    //    itself and hands those on its max faces over to the neighbour that numbers them.
+    // 1. Triangles per block, with block-local keys, sorted by the block that numbers them:
+    //    itself, or for the keys on its max faces the neighbour beyond.
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
         LabelWindow::Accessor acc(labels.coarse->tree());
@@ -515,30 +614,45 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
             block.patchCounts.assign(block.patches.size(), 0);
             for (const std::uint32_t l : block.patchOf) ++block.patchCounts[l];
-            block.owned.reserve(block.keys.size());
-            for (const LocalKey k : block.keys) {
-                const int d = handOverDirection(k, limit);
-                if (d == 0) block.owned.push_back(k);
-                else block.handedOver[d].push_back(k - neighbourShift[d]);
+            for (std::size_t i = 0; i < block.keys.size(); ++i) {
+                block.byOwner[handOverDirection(block.keys[i], limit)].push_back(
+                    std::uint32_t(i));
             }
+            block.rank.resize(block.keys.size());
         }
     }, 4);
     interrupt.throwIfStopped("extraction");
 
-    // 2. Every block numbers its own keys and those its neighbours at origin - 8d handed
-    //    over, in key order.
+    // 2. Every block numbers its own keys and those of its neighbours at origin - 8d on their
+    //    max faces, in key order, and tells every key its rank: each key has one owner, so
+    //    the writes of different blocks go to different places.
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
+        // key << 32 | d << 29 | i: key i of the block at origin - 8d, in this block's local
+        // coordinates. A block holds fewer than 2^29 keys ((8 * 2s + 1)^3 <= 241^3 < 2^29).
+        std::vector<std::uint64_t> entries;
+        BlockMesh* from[8];
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            std::vector<LocalKey>& owned = blocks[n].owned;
-            for (int d = 1; d < 8; ++d) {
-                const std::ptrdiff_t x = blockIndex(neighbourOrigin(n, d, -1));
-                if (x < 0) continue;
-                const std::vector<LocalKey>& given = blocks[std::size_t(x)].handedOver[d];
-                owned.insert(owned.end(), given.begin(), given.end());
+            entries.clear();
+            for (int d = 0; d < 8; ++d) {
+                const std::ptrdiff_t x = d == 0 ? std::ptrdiff_t(n)
+                    : blockIndex(neighbourOrigin(n, d, -1));
+                from[d] = x < 0 ? nullptr : &blocks[std::size_t(x)];
+                if (!from[d]) continue;
+                for (const std::uint32_t i : from[d]->byOwner[d]) {
+                    const LocalKey k = from[d]->keys[i] - neighbourShift[d];
+                    entries.push_back((std::uint64_t(k) << 32) | (std::uint64_t(d) << 29) | i);
+                }
             }
-            std::sort(owned.begin(), owned.end());
-            owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
+            std::sort(entries.begin(), entries.end());
+            std::vector<LocalKey>& owned = blocks[n].owned;
+            owned.reserve(entries.size());
+            for (const std::uint64_t e : entries) {
+                const auto k = LocalKey(e >> 32);
+                if (owned.empty() || owned.back() != k) owned.push_back(k);
+                from[(e >> 29) & 7u]->rank[e & ((1u << 29) - 1)] =
+                    std::uint32_t(owned.size() - 1);
+            }
         }
     }, 8);
     interrupt.throwIfStopped("extraction");
@@ -583,7 +697,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
     }
 
-    // 4. Global indices of every block's keys (found in their owners' sorted keys), its
+    // 4. Global indices of every block's keys (their owners' offsets plus their ranks), its
     //    triangles at their places, the points it numbers. A key k of block X is at coarse
     //    index (2s X + k) / 2s; voxel centres sit at integer indices in OpenVDB, so the cube
     //    of voxel c spans [c - 0.5, c + 0.5] there.
@@ -601,15 +715,16 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             owners[0] = std::ptrdiff_t(n);
             for (int d = 1; d < 8; ++d) owners[d] = blockIndex(neighbourOrigin(n, d, 1));
             global.resize(block.keys.size());
-            for (std::size_t i = 0; i < block.keys.size(); ++i) {
-                const int d = handOverDirection(block.keys[i], limit);
-                const std::ptrdiff_t owner = owners[d];
-                if (owner < 0) { lostKey = true; continue; }
-                const std::vector<LocalKey>& owned = blocks[std::size_t(owner)].owned;
-                const auto it = std::lower_bound(owned.begin(), owned.end(),
-                    block.keys[i] - neighbourShift[d]);
-                global[i] = std::uint32_t(vertexOffset[std::size_t(owner)]
-                    + std::size_t(it - owned.begin()));
+            for (int d = 0; d < 8; ++d) {
+                if (block.byOwner[d].empty()) continue;
+                if (owners[d] < 0) {
+                    lostKey = true;
+                    continue;
+                }
+                const std::size_t offset = vertexOffset[std::size_t(owners[d])];
+                for (const std::uint32_t i : block.byOwner[d]) {
+                    global[i] = std::uint32_t(offset + block.rank[i]);
+                }
             }
             std::vector<std::size_t> next = start[n];
             for (std::size_t t = 0; t < block.patchOf.size(); ++t) {

@@ -38,34 +38,37 @@ LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
     mOrigin = origin;
     const openvdb::Coord lo = origin.offsetBy(-1);
 
-    // The window overlaps the 3^3 leaves at offsets -8, 0, +8; copy each overlap directly
-    // from the leaf buffer, or fill it with the tile value where no leaf is stored.
+    // The window overlaps the 3^3 leaves at offsets -8, 0, +8. Per column of three leaves
+    // along z, every window row takes its last voxel from the leaf below, eight straight from
+    // the middle leaf's buffer and its first from the leaf above; where no leaf is stored, the
+    // tile value or background, uniform over the leaf's extent.
     for (int lx = -1; lx <= 1; ++lx) {
         for (int ly = -1; ly <= 1; ++ly) {
+            const LeafT* leaf[3];
+            Label fill[3];
             for (int lz = -1; lz <= 1; ++lz) {
                 const openvdb::Coord leafOrigin = origin.offsetBy(
                     lx * BLOCK_DIM, ly * BLOCK_DIM, lz * BLOCK_DIM);
-                // Overlap of this leaf with the window, in window offsets.
-                int b[3], e[3];
-                const int l[3] = {lx, ly, lz};
-                for (int a = 0; a < 3; ++a) {
-                    b[a] = l[a] < 0 ? 0 : (l[a] == 0 ? 1 : BLOCK_DIM + 1);
-                    e[a] = l[a] < 0 ? 1 : (l[a] == 0 ? BLOCK_DIM + 1 : DIM);
-                }
-                const LeafT* leaf = acc.probeConstLeaf(leafOrigin);
-                // No leaf: a tile or the background, uniform over the leaf's extent.
-                const Label fill = leaf ? 0 : acc.getValue(leafOrigin);
-                for (int x = b[0]; x < e[0]; ++x) {
-                    for (int y = b[1]; y < e[1]; ++y) {
-                        Label* dst = mLabels + index(x, y, 0);
-                        if (!leaf) {
-                            for (int z = b[2]; z < e[2]; ++z) dst[z] = fill;
-                            continue;
-                        }
-                        const Label* src = leaf->buffer().data()
-                            + LeafT::coordToOffset(lo.offsetBy(x, y, b[2]));
-                        for (int z = b[2]; z < e[2]; ++z) dst[z] = src[z - b[2]];
+                leaf[lz + 1] = acc.probeConstLeaf(leafOrigin);
+                fill[lz + 1] = leaf[lz + 1] ? 0 : acc.getValue(leafOrigin);
+            }
+            // Overlap of this column with the window, in window offsets along x and y.
+            const int bx = lx < 0 ? 0 : (lx == 0 ? 1 : BLOCK_DIM + 1), ex = lx < 0 ? 1
+                : (lx == 0 ? BLOCK_DIM + 1 : DIM);
+            const int by = ly < 0 ? 0 : (ly == 0 ? 1 : BLOCK_DIM + 1), ey = ly < 0 ? 1
+                : (ly == 0 ? BLOCK_DIM + 1 : DIM);
+            for (int x = bx; x < ex; ++x) {
+                for (int y = by; y < ey; ++y) {
+                    Label* dst = mLabels + index(x, y, 0);
+                    // Buffer offset of (x, y, z = 0) in any leaf of the column.
+                    const openvdb::Index row = LeafT::coordToOffset(lo.offsetBy(x, y, 1));
+                    dst[0] = leaf[0] ? leaf[0]->buffer()[row + BLOCK_DIM - 1] : fill[0];
+                    if (leaf[1]) {
+                        std::copy_n(leaf[1]->buffer().data() + row, BLOCK_DIM, dst + 1);
+                    } else {
+                        std::fill_n(dst + 1, BLOCK_DIM, fill[1]);
                     }
+                    dst[DIM - 1] = leaf[2] ? leaf[2]->buffer()[row] : fill[2];
                 }
             }
         }

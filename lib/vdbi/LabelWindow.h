@@ -43,6 +43,20 @@ public:
     const Label* data() const { return mLabels; }
     const openvdb::Coord& origin() const { return mOrigin; }
 
+    /// @brief True when the @a count rows of voxels starting at flat indices @a rows hold one
+    /// label over z in [0, DIM - 1): the voxels that the grid points or faces of one row of
+    /// the block read. Lets the passes skip the rows that hold nothing to do.
+    bool isUniform(const int* rows, int count) const
+    {
+        const Label label = mLabels[rows[0]];
+        bool uniform = true;
+        for (int r = 0; r < count; ++r) {
+            const Label* row = mLabels + rows[r];
+            for (int z = 0; z < DIM - 1; ++z) uniform &= row[z] == label;
+        }
+        return uniform;
+    }
+
     /// Offsets in the flat array for a step along x, y, z.
     static constexpr int STRIDE[3] = {DIM * DIM, DIM, 1};
     /// Flat index of the voxel at offset (x, y, z) from origin - 1.
