@@ -21,9 +21,10 @@ protected:
 
 namespace {
 
-/// Appends a point with key @a key (keyScale 2) and returns its index.
+/// Appends a point with key @a key (keyScale 2) and returns its index. The key is a copy: it
+/// may be one of the mesh's own, which the push_back can move (ASan found it).
 unsigned
-addPoint(vdbi::InterfaceMesh& mesh, const vdbi::VertexKey& key)
+addPoint(vdbi::InterfaceMesh& mesh, const vdbi::VertexKey key)
 {
     mesh.pointKeys.push_back(key);
     mesh.points.emplace_back(key[0] / 2.0, key[1] / 2.0, key[2] / 2.0);
@@ -250,7 +251,7 @@ TEST_F(TestMeshChecker, testOpenFansAndClosedFanPlusMore)
 
     auto mesh = vdbi_test::plainInterfaceMesh(*vdbi_test::singleVoxel());
     const unsigned corner = mesh.triangles[0][0];
-    const auto& k = mesh.pointKeys[corner];
+    const vdbi::VertexKey k = mesh.pointKeys[corner]; // a copy: addPoint grows pointKeys
     const unsigned p1 = addPoint(mesh, {k[0] + 10, k[1] + 20, k[2]});
     const unsigned p2 = addPoint(mesh, {k[0] + 20, k[1] + 10, k[2] + 4});
     insertTriangle(mesh, 0, openvdb::Vec3I(corner, p1, p2));
