@@ -53,12 +53,10 @@ LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
                 fill[lz + 1] = leaf[lz + 1] ? 0 : acc.getValue(leafOrigin);
             }
             // Overlap of this column with the window, in window offsets along x and y.
-            const int bx = lx < 0 ? 0 : (lx == 0 ? 1 : BLOCK_DIM + 1), ex = lx < 0 ? 1
-                : (lx == 0 ? BLOCK_DIM + 1 : DIM);
-            const int by = ly < 0 ? 0 : (ly == 0 ? 1 : BLOCK_DIM + 1), ey = ly < 0 ? 1
-                : (ly == 0 ? BLOCK_DIM + 1 : DIM);
-            for (int x = bx; x < ex; ++x) {
-                for (int y = by; y < ey; ++y) {
+            const auto first = [](int l) { return l < 0 ? 0 : (l == 0 ? 1 : BLOCK_DIM + 1); };
+            const auto end = [](int l) { return l < 0 ? 1 : (l == 0 ? BLOCK_DIM + 1 : DIM); };
+            for (int x = first(lx); x < end(lx); ++x) {
+                for (int y = first(ly); y < end(ly); ++y) {
                     Label* dst = mLabels + index(x, y, 0);
                     // Buffer offset of (x, y, z = 0) in any leaf of the column.
                     const openvdb::Index row = LeafT::coordToOffset(lo.offsetBy(x, y, 1));
