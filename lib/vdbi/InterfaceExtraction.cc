@@ -98,7 +98,9 @@ struct BlockMesh
     std::array<std::vector<std::uint32_t>, 8> byOwner;
     /// Per key: its index among the keys that its owner numbers (set by the owner).
     std::vector<std::uint32_t> rank;
-    std::vector<LocalKey> owned;            ///< keys this block numbers, sorted
+    /// Keys this block numbers: those inside it in order of emission, then those on its min
+    /// faces, sorted.
+    std::vector<LocalKey> owned;
 };
 
 /// Open-addressing map from the keys of one block to their indices in BlockMesh::keys.
@@ -360,25 +362,28 @@ private:
                 cut[a][++pieces[a]] = t;
             }
         }
+        // Most fine voxels are not active: fill with the coarse label, then copy the others.
+        std::fill_n(out, s * s * s, coarse);
         for (int px = 0; px < pieces[0]; ++px) {
             for (int py = 0; py < pieces[1]; ++py) {
                 for (int pz = 0; pz < pieces[2]; ++pz) {
                     const Coord first = lo.offsetBy(cut[0][px], cut[1][py], cut[2][pz]);
                     const LeafT* leaf = mFine.probeConstLeaf(first);
-                    Label fill = coarse;
-                    if (!leaf && mFine.isValueOn(first)) fill = mFine.getValue(first);
+                    if (!leaf && !mFine.isValueOn(first)) continue;
+                    const Label tile = leaf ? coarse : mFine.getValue(first);
+                    const Label* values = leaf ? leaf->buffer().data() : nullptr;
                     for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
                         for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
                             Label* dst = out + (x * s + y) * s;
                             if (!leaf) {
-                                for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z) dst[z] = fill;
+                                std::fill(dst + cut[2][pz], dst + cut[2][pz + 1], tile);
                                 continue;
                             }
                             // Inside one leaf, z is the fastest axis of the buffer.
                             openvdb::Index i = LeafT::coordToOffset(
                                 lo.offsetBy(x, y, cut[2][pz]));
                             for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z, ++i) {
-                                dst[z] = leaf->isValueOn(i) ? leaf->getValue(i) : coarse;
+                                if (leaf->getValueMask().isOn(i)) dst[z] = values[i];
                             }
                         }
                     }
@@ -552,6 +557,14 @@ forEachChunk(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body&
     else run(all);
 }
 
+/// Whether @a k lies on one of the block's min faces, where the keys of the neighbours below
+/// meet its own.
+bool
+onMinFace(LocalKey k)
+{
+    return (k & 0xFF0000u) == 0 || (k & 0xFF00u) == 0 || (k & 0xFFu) == 0;
+}
+
 /// Bit a of the result: @a k lies on the block's max face along axis a (@a limit = 8 * 2s).
 int
 handOverDirection(LocalKey k, int limit)
@@ -614,18 +627,25 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
             block.patchCounts.assign(block.patches.size(), 0);
             for (const std::uint32_t l : block.patchOf) ++block.patchCounts[l];
-            for (std::size_t i = 0; i < block.keys.size(); ++i) {
-                block.byOwner[handOverDirection(block.keys[i], limit)].push_back(
-                    std::uint32_t(i));
-            }
+            // Keys inside the block are its alone: numbered here, in the order of emission.
             block.rank.resize(block.keys.size());
+            for (std::size_t i = 0; i < block.keys.size(); ++i) {
+                const LocalKey k = block.keys[i];
+                const int d = handOverDirection(k, limit);
+                block.byOwner[d].push_back(std::uint32_t(i));
+                if (d == 0 && !onMinFace(k)) {
+                    block.rank[i] = std::uint32_t(block.owned.size());
+                    block.owned.push_back(k);
+                }
+            }
         }
     }, 4);
     interrupt.throwIfStopped("extraction");
 
-    // 2. Every block numbers its own keys and those of its neighbours at origin - 8d on their
-    //    max faces, in key order, and tells every key its rank: each key has one owner, so
-    //    the writes of different blocks go to different places.
+    // 2. Every block numbers the keys on its min faces, its own and those of its neighbours
+    //    at origin - 8d on their max faces, in key order after its inside ones, and tells
+    //    every key its rank: each key has one owner, so the writes of different blocks go to
+    //    different places.
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
         // key << 32 | d << 29 | i: key i of the block at origin - 8d, in this block's local
@@ -641,15 +661,17 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 if (!from[d]) continue;
                 for (const std::uint32_t i : from[d]->byOwner[d]) {
                     const LocalKey k = from[d]->keys[i] - neighbourShift[d];
+                    if (d == 0 && !onMinFace(k)) continue; // numbered in step 1
                     entries.push_back((std::uint64_t(k) << 32) | (std::uint64_t(d) << 29) | i);
                 }
             }
             std::sort(entries.begin(), entries.end());
             std::vector<LocalKey>& owned = blocks[n].owned;
-            owned.reserve(entries.size());
+            const std::size_t inside = owned.size();
+            owned.reserve(inside + entries.size());
             for (const std::uint64_t e : entries) {
                 const auto k = LocalKey(e >> 32);
-                if (owned.empty() || owned.back() != k) owned.push_back(k);
+                if (owned.size() == inside || owned.back() != k) owned.push_back(k);
                 from[(e >> 29) & 7u]->rank[e & ((1u << 29) - 1)] =
                     std::uint32_t(owned.size() - 1);
             }

@@ -123,16 +123,11 @@ fail(const std::string& what)
 }
 
 /// Directed edges u -> v, each with a tag (a patch or a label), grouped by u with a counting
-/// sort (a global sort dominated the checks, which run on every input), sorted per u.
+/// sort (a global sort dominated the checks, which run on every input), sorted per u: so
+/// duplicates are neighbours, and two sets of edges are equal when their arrays are.
 class DirectedEdges
 {
 public:
-    struct Target
-    {
-        std::uint32_t v, tag;
-        bool operator<(const Target& o) const { return v < o.v || (v == o.v && tag < o.tag); }
-    };
-
     /// @a forEachEdge(op) calls op(u, v, tag) for every edge, twice over the same edges.
     template<typename ForEachEdge>
     DirectedEdges(std::size_t vertices, ForEachEdge&& forEachEdge) : mFirst(vertices + 1, 0u)
@@ -146,34 +141,30 @@ public:
         mTargets.resize(count);
         std::vector<std::uint32_t> next(mFirst.begin(), mFirst.end() - 1);
         forEachEdge([&](std::uint32_t u, std::uint32_t v, std::uint32_t tag) {
-            mTargets[next[u]++] = Target{v, tag};
+            mTargets[next[u]++] = (std::uint64_t(v) << 32) | tag;
         });
-        // Sorted per vertex, so that count() is a binary search: fan centres have dozens of
-        // edges, and scanning them per edge made the checks quadratic in the degree.
         for (std::size_t u = 0; u + 1 < mFirst.size(); ++u) {
             std::sort(mTargets.begin() + mFirst[u], mTargets.begin() + mFirst[u + 1]);
         }
     }
-    /// How many times the edge u -> v with @a tag is present.
-    std::size_t count(std::uint32_t u, std::uint32_t v, std::uint32_t tag) const
+    /// Whether an edge u -> v with the same tag is there twice.
+    bool hasDuplicate() const
     {
-        const auto range = std::equal_range(mTargets.begin() + mFirst[u],
-                                            mTargets.begin() + mFirst[u + 1], Target{v, tag});
-        return std::size_t(range.second - range.first);
-    }
-    template<typename Op>
-    void forEach(Op&& op) const
-    {
-        for (std::uint32_t u = 0; u + 1 < mFirst.size(); ++u) {
-            for (std::uint32_t i = mFirst[u]; i < mFirst[u + 1]; ++i) {
-                op(u, mTargets[i].v, mTargets[i].tag);
+        for (std::size_t u = 0; u + 1 < mFirst.size(); ++u) {
+            for (std::uint32_t i = mFirst[u] + 1; i < mFirst[u + 1]; ++i) {
+                if (mTargets[i] == mTargets[i - 1]) return true;
             }
         }
+        return false;
+    }
+    bool operator==(const DirectedEdges& o) const
+    {
+        return mFirst == o.mFirst && mTargets == o.mTargets;
     }
 
 private:
-    std::vector<std::uint32_t> mFirst; ///< per vertex, its first edge in mTargets
-    std::vector<Target> mTargets;
+    std::vector<std::uint32_t> mFirst;   ///< per vertex, its first edge in mTargets
+    std::vector<std::uint64_t> mTargets; ///< v << 32 | tag
 };
 
 /// The self-contained checker (see the file comment); aborts on the first violation.
@@ -184,8 +175,11 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels,
     const std::size_t n = mesh.points.size();
     if (!mesh.pointKeys.empty()) {
         if (mesh.pointKeys.size() != n) fail("pointKeys and points differ in number");
-        std::set<vdbi::VertexKey> keys(mesh.pointKeys.begin(), mesh.pointKeys.end());
-        if (keys.size() != n) fail("two points with the same key");
+        std::vector<vdbi::VertexKey> keys = mesh.pointKeys;
+        std::sort(keys.begin(), keys.end());
+        if (std::adjacent_find(keys.begin(), keys.end()) != keys.end()) {
+            fail("two points with the same key");
+        }
     }
     std::size_t first = 0;
     std::set<Label> labelsWithPatch;
@@ -235,11 +229,9 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels,
             op(u, v, p);
         });
     });
-    patchEdges.forEach([&](std::uint32_t u, std::uint32_t v, std::uint32_t p) {
-        if (patchEdges.count(u, v, p) != 1) fail("directed edge twice in a patch");
-    });
+    if (patchEdges.hasDuplicate()) fail("directed edge twice in a patch");
     // Per label: the union of its patches, flipped where it is b, is closed: every directed
-    // edge once and its reverse once. Tags are indices into labelList.
+    // edge once, and the edges equal their reverses. Tags are indices into labelList.
     const std::vector<Label> labelList(allowed.begin(), allowed.end());
     const auto tagOf = [&labelList](Label l) {
         return std::uint32_t(std::lower_bound(labelList.begin(), labelList.end(), l)
@@ -249,21 +241,20 @@ checkMesh(const vdbi::InterfaceMesh& mesh, const std::set<Label>& labels,
     for (const vdbi::InterfacePatch& patch : mesh.patches) {
         patchTags.push_back({tagOf(patch.a), tagOf(patch.b)});
     }
-    const DirectedEdges labelEdges(n, [&](auto&& op) {
-        forEachTriangleEdge([&](std::uint32_t p, std::uint32_t u, std::uint32_t v) {
-            op(u, v, patchTags[p][0]);
-            op(v, u, patchTags[p][1]);
+    const auto labelEdges = [&](bool reversed) {
+        return DirectedEdges(n, [&](auto&& op) {
+            forEachTriangleEdge([&](std::uint32_t p, std::uint32_t u, std::uint32_t v) {
+                if (reversed) std::swap(u, v);
+                op(u, v, patchTags[p][0]);
+                op(v, u, patchTags[p][1]);
+            });
         });
-    });
-    labelEdges.forEach([&](std::uint32_t u, std::uint32_t v, std::uint32_t tag) {
-        const auto where = [&] {
-            return "the surface of label " + std::to_string(labelList[tag]);
-        };
-        if (labelEdges.count(u, v, tag) != 1) fail(where() + " has a directed edge twice");
-        if (labelEdges.count(v, u, tag) != 1) {
-            fail(where() + " is not closed (an edge without its reverse)");
-        }
-    });
+    };
+    const DirectedEdges forward = labelEdges(false);
+    if (forward.hasDuplicate()) fail("the surface of a label has a directed edge twice");
+    if (!(forward == labelEdges(true))) {
+        fail("the surface of a label is not closed (an edge without its reverse)");
+    }
 }
 
 } // namespace
