@@ -9,6 +9,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -557,6 +558,16 @@ forEachChunk(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body&
     else run(all);
 }
 
+/// Runs @a task beside the next parallel loop (in @a group, waited for by the caller), or now
+/// when not threaded: it fills the big output arrays, serial work that then overlaps.
+template<typename Task>
+void
+runBeside(tbb::task_group& group, bool threaded, const Task& task)
+{
+    if (threaded) group.run(task);
+    else task();
+}
+
 /// Whether @a k lies on one of the block's min faces, where the keys of the neighbours below
 /// meet its own.
 bool
@@ -641,6 +652,13 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         }
     }, 4);
     interrupt.throwIfStopped("extraction");
+    std::size_t triangleTotal = 0;
+    for (const BlockMesh& block : blocks) triangleTotal += block.patchOf.size();
+    InterfaceMesh mesh;
+    // Filling the output arrays (hundreds of MB on big volumes, most of it page faults) is
+    // serial: it runs beside the parallel loops (the group is destroyed before the mesh).
+    tbb::task_group arrays;
+    runBeside(arrays, options.threaded, [&] { mesh.triangles.resize(triangleTotal); });
 
     // 2. Every block numbers the keys on its min faces, its own and those of its neighbours
     //    at origin - 8d on their max faces, in key order after its inside ones, and tells
@@ -677,6 +695,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             }
         }
     }, 8);
+    arrays.wait();
     interrupt.throwIfStopped("extraction");
 
     std::vector<std::size_t> vertexOffset(blockCount + 1, 0);
@@ -689,7 +708,6 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     for (const BlockMesh& block : blocks) {
         for (const LabelPair& p : block.patches) patchIndex.emplace(p, 0);
     }
-    InterfaceMesh mesh;
     mesh.keyScale = K;
     for (auto& entry : patchIndex) {
         entry.second = mesh.patches.size();
@@ -720,13 +738,11 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     }
 
     // 4. Global indices of every block's keys (their owners' offsets plus their ranks), its
-    //    triangles at their places, the points it numbers. A key k of block X is at coarse
-    //    index (2s X + k) / 2s; voxel centres sit at integer indices in OpenVDB, so the cube
-    //    of voxel c spans [c - 0.5, c + 0.5] there.
-    mesh.triangles.resize(total);
-    mesh.points.resize(vertexOffset.back());
-    if (options.pointKeys) mesh.pointKeys.resize(vertexOffset.back());
-    const openvdb::math::Transform& xform = labels.coarse->transform();
+    //    triangles at their places; then the points it numbers.
+    runBeside(arrays, options.threaded, [&] {
+        mesh.points.resize(vertexOffset.back());
+        if (options.pointKeys) mesh.pointKeys.resize(vertexOffset.back());
+    });
     std::atomic<bool> lostKey{false};
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
@@ -754,6 +770,19 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 mesh.triangles[at] = openvdb::Vec3I(global[block.corners[3 * t]],
                     global[block.corners[3 * t + 1]], global[block.corners[3 * t + 2]]);
             }
+        }
+    }, 8);
+    arrays.wait();
+    interrupt.throwIfStopped("extraction");
+    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
+
+    // A key k of block X is at coarse index (2s X + k) / 2s; voxel centres sit at integer
+    // indices in OpenVDB, so the cube of voxel c spans [c - 0.5, c + 0.5] there.
+    const openvdb::math::Transform& xform = labels.coarse->transform();
+    forEachChunk(blockCount, options.threaded, interrupt,
+                 [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            const BlockMesh& block = blocks[n];
             const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
                 std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
             for (std::size_t i = 0; i < block.owned.size(); ++i) {
@@ -768,7 +797,6 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         }
     }, 8);
     interrupt.throwIfStopped("extraction");
-    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
     return mesh;
 }
 
