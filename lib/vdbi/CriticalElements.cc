@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -250,9 +251,13 @@ findCriticalElements(const openvdb::Int32Grid& grid, const RepairOptions& option
     auto byPlace = [](const auto& a, const auto& b) {
         return a.origin < b.origin || (a.origin == b.origin && a.axis < b.axis);
     };
-    std::sort(elements.faces.begin(), elements.faces.end(), byPlace);
-    std::sort(elements.edges.begin(), elements.edges.end(), byPlace);
-    std::sort(elements.vertices.begin(), elements.vertices.end(),
+    auto sort = [&options](auto& list, const auto& less) {
+        if (options.threaded) tbb::parallel_sort(list.begin(), list.end(), less);
+        else std::sort(list.begin(), list.end(), less);
+    };
+    sort(elements.faces, byPlace);
+    sort(elements.edges, byPlace);
+    sort(elements.vertices,
         [](const CriticalVertex& a, const CriticalVertex& b) { return a.point < b.point; });
     return elements;
 }

@@ -96,34 +96,47 @@ private:
 };
 
 /// Moves the leaves of @a from into @a into; where @a into has a leaf already, @a combine
-/// (old value, new value) gives each voxel that both hold. Leaves @a from empty.
+/// (old value, new value) gives each voxel that both hold. Leaves @a from empty. Only adding
+/// leaves changes the tree: that is serial, combining the overlapping leaves is not.
 template<typename Combine>
 void
-mergeLeaves(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const Combine& combine)
+mergeLeaves(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const Combine& combine,
+            bool threaded)
 {
     using LeafT = openvdb::Int32Tree::LeafNodeType;
     std::vector<LeafT*> leaves;
     from.stealNodes(leaves);
+    std::vector<std::pair<LeafT*, LeafT*>> overlaps; // (leaf of into, leaf of from)
     openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(into);
     for (LeafT* leaf : leaves) {
-        LeafT* target = acc.probeLeaf(leaf->origin());
-        if (!target) {
-            acc.addLeaf(leaf);
-            continue;
-        }
-        for (auto it = leaf->cbeginValueOn(); it; ++it) {
-            const openvdb::Index i = it.pos();
-            target->setValueOn(i, target->isValueOn(i) ? combine(target->getValue(i), *it) : *it);
-        }
-        delete leaf;
+        if (LeafT* target = acc.probeLeaf(leaf->origin())) overlaps.emplace_back(target, leaf);
+        else acc.addLeaf(leaf);
     }
+    auto merge = [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            LeafT& target = *overlaps[n].first;
+            const LeafT* leaf = overlaps[n].second;
+            Label* to = target.buffer().data();
+            const Label* values = leaf->buffer().data();
+            for (auto it = leaf->getValueMask().beginOn(); it; ++it) {
+                const openvdb::Index i = it.pos();
+                to[i] = target.isValueOn(i) ? combine(to[i], values[i]) : values[i];
+                target.getValueMask().setOn(i);
+            }
+            delete leaf;
+        }
+    };
+    const tbb::blocked_range<std::size_t> all(0, overlaps.size(), 16);
+    if (threaded) tbb::parallel_for(all, merge);
+    else merge(all);
 }
 
 /// Merges @a from into @a into by priority; leaves @a from empty.
 void
-mergeByPriority(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const LabelPriority& p)
+mergeByPriority(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const LabelPriority& p,
+                bool threaded)
 {
-    mergeLeaves(into, from, [&p](Label a, Label b) { return p.pick(a, b); });
+    mergeLeaves(into, from, [&p](Label a, Label b) { return p.pick(a, b); }, threaded);
 }
 
 /// Relabels N_k of every element of one kind; returns the labels written (active voxels).
@@ -149,15 +162,17 @@ relabelPass(const std::vector<Element>& elements, int s, int k, const RepairOpti
     interrupt.throwIfStopped(stage);
 
     auto result = std::make_shared<openvdb::Int32Tree>(background);
-    for (auto& tree : local) mergeByPriority(*result, *tree, options.priority);
+    for (auto& tree : local) {
+        mergeByPriority(*result, *tree, options.priority, options.threaded);
+    }
     return result;
 }
 
 /// Later passes overwrite earlier ones; leaves @a from empty.
 void
-overwrite(openvdb::Int32Tree& into, openvdb::Int32Tree& from)
+overwrite(openvdb::Int32Tree& into, openvdb::Int32Tree& from, bool threaded)
 {
-    mergeLeaves(into, from, [](Label, Label later) { return later; });
+    mergeLeaves(into, from, [](Label, Label later) { return later; }, threaded);
 }
 
 /// Marks the coarse voxels whose closed cubes touch an element: [lo - 1, hi] per axis.
@@ -212,12 +227,12 @@ fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
     if (constrained) {
         fine = relabelPass(elements.faces, s, 1, options, background, "fattening faces");
         overwrite(*fine, *relabelPass(elements.edges, s, 2, options, background,
-            "fattening edges"));
+            "fattening edges"), options.threaded);
     } else {
         fine = relabelPass(elements.edges, s, 1, options, background, "fattening edges");
     }
     overwrite(*fine, *relabelPass(elements.vertices, s, constrained ? 3 : 2, options,
-        background, "fattening vertices"));
+        background, "fattening vertices"), options.threaded);
     dropUnchanged(*fine, grid->tree(), s, options.threaded);
 
     result.fine = openvdb::Int32Grid::create(fine);

@@ -770,6 +770,11 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 mesh.triangles[at] = openvdb::Vec3I(global[block.corners[3 * t]],
                     global[block.corners[3 * t + 1]], global[block.corners[3 * t + 2]]);
             }
+            // Nothing reads this block's triangles and keys again: free them here, in
+            // parallel, rather than all at once at the end.
+            std::vector<LocalKey> owned = std::move(blocks[n].owned);
+            blocks[n] = BlockMesh();
+            blocks[n].owned = std::move(owned);
         }
     }, 8);
     arrays.wait();
@@ -782,7 +787,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            const BlockMesh& block = blocks[n];
+            BlockMesh& block = blocks[n];
             const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
                 std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
             for (std::size_t i = 0; i < block.owned.size(); ++i) {
@@ -794,6 +799,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 mesh.points[vertexOffset[n] + i] = xform.indexToWorld(index);
                 if (options.pointKeys) mesh.pointKeys[vertexOffset[n] + i] = k;
             }
+            blocks[n].owned = {};
         }
     }, 8);
     interrupt.throwIfStopped("extraction");
