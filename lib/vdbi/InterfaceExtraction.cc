@@ -34,7 +34,6 @@ public:
     bool load(Accessor& acc, const Coord& origin)
     {
         using LeafT = openvdb::MaskTree::LeafNodeType;
-        const Coord lo = origin.offsetBy(-1);
         bool any = false;
         for (int n = 0; n < 27; ++n) {
             const Coord leafOrigin = origin.offsetBy((n % 3 - 1) * BLOCK_DIM,
@@ -44,11 +43,29 @@ public:
             any = any || mLeaves[n] || mTiles[n];
         }
         if (!any) return false;
-        for (int x = 0; x < DIM; ++x) for (int y = 0; y < DIM; ++y) for (int z = 0; z < DIM; ++z) {
-            const int n = part(x) + 3 * part(y) + 9 * part(z);
-            const Coord g = lo.offsetBy(x, y, z);
-            mOn[LabelWindow::index(x, y, z)] =
-                mLeaves[n] ? mLeaves[n]->isValueOn(LeafT::coordToOffset(g)) : mTiles[n];
+        // Window range and first leaf coordinate of the part of each neighbour leaf it
+        // overlaps, per axis: the last layer of the leaf below, all 8 of the block's leaf,
+        // the first layer of the leaf above.
+        static constexpr int FIRST[3] = {0, 1, DIM - 1}, END[3] = {1, DIM - 1, DIM},
+                             LEAF_FIRST[3] = {BLOCK_DIM - 1, 0, 0};
+        std::fill(std::begin(mOn), std::end(mOn), false);
+        for (int n = 0; n < 27; ++n) {
+            if (!mLeaves[n] && !mTiles[n]) continue;
+            const int px = n % 3, py = (n / 3) % 3, pz = n / 9;
+            for (int x = FIRST[px]; x < END[px]; ++x) {
+                for (int y = FIRST[py]; y < END[py]; ++y) {
+                    bool* row = mOn + LabelWindow::index(x, y, 0);
+                    if (mTiles[n]) {
+                        std::fill(row + FIRST[pz], row + END[pz], true);
+                        continue;
+                    }
+                    openvdb::Index i = LeafT::coordToOffset(Coord(x - FIRST[px] + LEAF_FIRST[px],
+                        y - FIRST[py] + LEAF_FIRST[py], LEAF_FIRST[pz]));
+                    for (int z = FIRST[pz]; z < END[pz]; ++z, ++i) {
+                        row[z] = mLeaves[n]->isValueOn(i);
+                    }
+                }
+            }
         }
         return true;
     }
@@ -65,7 +82,6 @@ public:
 
 private:
     static constexpr int DIM = LabelWindow::DIM;
-    static int part(int w) { return w == 0 ? 0 : (w <= BLOCK_DIM ? 1 : 2); }
     const openvdb::MaskTree::LeafNodeType* mLeaves[27];
     bool mTiles[27];
     bool mOn[DIM * DIM * DIM];
@@ -85,6 +101,9 @@ keyComponent(LocalKey k, int axis)
     return int((k >> (16 - 8 * axis)) & 0xFFu);
 }
 
+/// BlockMesh::byOwner's entry of the keys inside a block, which no other block emits.
+constexpr int INSIDE = 8;
+
 /// Triangles of one block, before vertices are numbered globally.
 struct BlockMesh
 {
@@ -95,8 +114,9 @@ struct BlockMesh
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
     /// A key on the block's max faces is numbered by the neighbour at origin + 8d, where bit a
     /// of d says the key is on the max face along a; the others (d = 0) by the block itself.
-    /// byOwner[d] holds the indices into keys of those numbered by the block at origin + 8d.
-    std::array<std::vector<std::uint32_t>, 8> byOwner;
+    /// byOwner[d] holds the indices into keys of those numbered by the block at origin + 8d,
+    /// byOwner[0] its own keys on its min faces, byOwner[INSIDE] those inside it.
+    std::array<std::vector<std::uint32_t>, 9> byOwner;
     /// Per key: its index among the keys that its owner numbers (set by the owner).
     std::vector<std::uint32_t> rank;
     /// Keys this block numbers: those inside it in order of emission, then those on its min
@@ -245,7 +265,10 @@ private:
             || mOut->patches[mLastPatch][1] != pair[1]) {
             const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
             mLastPatch = std::uint32_t(it - mOut->patches.begin());
-            if (it == mOut->patches.end()) mOut->patches.push_back(pair);
+            if (it == mOut->patches.end()) {
+                mOut->patches.push_back(pair);
+                mOut->patchCounts.push_back(0);
+            }
         }
     }
 
@@ -253,6 +276,7 @@ private:
     void triangle(std::uint32_t p, std::uint32_t q, std::uint32_t r)
     {
         mOut->patchOf.push_back(mLastPatch);
+        ++mOut->patchCounts[mLastPatch];
         mOut->corners.push_back(p);
         mOut->corners.push_back(mUp ? q : r);
         mOut->corners.push_back(mUp ? r : q);
@@ -494,16 +518,12 @@ private:
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
                         const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        any |= fine[idx - stride[a]] != fine[idx];
+                        const std::uint64_t pair = packPair(fine[idx - stride[a]], fine[idx]);
+                        mFacePairs[jb * s + jc] = pair;
+                        any |= !isDegenerate(pair);
                     }
                 }
                 if (!any) continue; // no face in this plane
-                for (int jb = 0; jb < s; ++jb) {
-                    for (int jc = 0; jc < s; ++jc) {
-                        const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        mFacePairs[jb * s + jc] = packPair(fine[idx - stride[a]], fine[idx]);
-                    }
-                }
                 Coord corner(s * local.x(), s * local.y(), s * local.z());
                 corner[a] += t;
                 fineFaceGrid(corner, a);
@@ -636,18 +656,17 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             const bool hasMask = mask->load(maskAcc, origins[n]);
             BlockMesh& block = blocks[n];
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
-            block.patchCounts.assign(block.patches.size(), 0);
-            for (const std::uint32_t l : block.patchOf) ++block.patchCounts[l];
             // Keys inside the block are its alone: numbered here, in the order of emission.
             block.rank.resize(block.keys.size());
             for (std::size_t i = 0; i < block.keys.size(); ++i) {
                 const LocalKey k = block.keys[i];
-                const int d = handOverDirection(k, limit);
-                block.byOwner[d].push_back(std::uint32_t(i));
+                int d = handOverDirection(k, limit);
                 if (d == 0 && !onMinFace(k)) {
+                    d = INSIDE;
                     block.rank[i] = std::uint32_t(block.owned.size());
                     block.owned.push_back(k);
                 }
+                block.byOwner[d].push_back(std::uint32_t(i));
             }
         }
     }, 4);
@@ -679,7 +698,6 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 if (!from[d]) continue;
                 for (const std::uint32_t i : from[d]->byOwner[d]) {
                     const LocalKey k = from[d]->keys[i] - neighbourShift[d];
-                    if (d == 0 && !onMinFace(k)) continue; // numbered in step 1
                     entries.push_back((std::uint64_t(k) << 32) | (std::uint64_t(d) << 29) | i);
                 }
             }
@@ -749,11 +767,11 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         std::vector<std::uint32_t> global;
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
             const BlockMesh& block = blocks[n];
-            std::ptrdiff_t owners[8];
-            owners[0] = std::ptrdiff_t(n);
+            std::ptrdiff_t owners[9];
+            owners[0] = owners[INSIDE] = std::ptrdiff_t(n);
             for (int d = 1; d < 8; ++d) owners[d] = blockIndex(neighbourOrigin(n, d, 1));
             global.resize(block.keys.size());
-            for (int d = 0; d < 8; ++d) {
+            for (int d = 0; d < 9; ++d) {
                 if (block.byOwner[d].empty()) continue;
                 if (owners[d] < 0) {
                     lostKey = true;
