@@ -131,6 +131,7 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
     for (int n = 0; n < 8; ++n) {
         offsets[n] = LabelWindow::index(n & 1, (n >> 1) & 1, (n >> 2) & 1);
     }
+    const std::array<int, 4> cycles[3] = {faceCycle(0, 1), faceCycle(1, 1), faceCycle(2, 1)};
 
     for (int i = 0; i < BLOCK_DIM; ++i) {
         for (int j = 0; j < BLOCK_DIM; ++j) {
@@ -162,7 +163,7 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
 
                 // Edges (v, axis): their four voxels are the block's face with bit axis = 1.
                 for (int axis = 0; axis < 3; ++axis) {
-                    const std::array<int, 4> cyc = faceCycle(axis, 1);
+                    const std::array<int, 4>& cyc = cycles[axis];
                     const Label r[4] = {l[cyc[0]], l[cyc[1]], l[cyc[2]], l[cyc[3]]};
                     DominantLabel d(options.priority);
                     if (constrained) offerSeparators(options.constraints, r, 4, d);
@@ -176,12 +177,14 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
                 // The point itself: every distinct label of the block, by its mask.
                 DominantLabel d(options.priority);
                 bool singular = false;
-                for (int n = 0; n < 8; ++n) {
-                    bool seen = false;
-                    for (int p = 0; p < n; ++p) seen = seen || l[p] == l[n];
-                    if (seen) continue;
+                // Bits of the corners whose label has no mask yet; the lowest is the first
+                // corner of its label. Most blocks hold two labels: two rounds.
+                for (unsigned remaining = 0xFFu; remaining != 0; ) {
+                    int n = 0;
+                    while (!((remaining >> n) & 1u)) ++n;
                     unsigned mask = 0;
                     for (int p = n; p < 8; ++p) mask |= unsigned(l[p] == l[n]) << p;
+                    remaining &= ~mask;
                     const VertexRule& rule = table.rules[mask];
                     if (rule.critical) d.offer(l[n]);
                     singular = singular || rule.singular;
