@@ -128,8 +128,9 @@ struct BlockMesh
 class KeyIndex
 {
 public:
-    /// Starts a block; empties the slots of the previous one, latest first, so that every
-    /// probe chain is intact while its key is looked up.
+    /// Starts a block whose keys go to @a keys; empties the slots of the previous block's keys
+    /// (still in the vector given last), latest first, so that every probe chain is intact
+    /// while its key is looked up.
     void reset(std::vector<LocalKey>& keys)
     {
         if (mSlots.empty()) {
@@ -217,7 +218,10 @@ public:
               BlockMesh& out)
     {
         mOut = &out;
-        mIndex.reset(out.keys);
+        mIndex.reset(mKeys);
+        mKeys.clear();
+        mCorners.clear();
+        mPatchOf.clear();
         forgetFineVoxels();
         const Coord& o = w.origin();
         const bool clipped = !owners.empty();
@@ -252,6 +256,10 @@ public:
                 }
             }
         }
+        // Exact sizes: the blocks keep these until the end of the extraction.
+        out.keys.assign(mKeys.begin(), mKeys.end());
+        out.corners.assign(mCorners.begin(), mCorners.end());
+        out.patchOf.assign(mPatchOf.begin(), mPatchOf.end());
     }
 
 private:
@@ -275,11 +283,11 @@ private:
     /// Appends a triangle given counter-clockwise seen from +axis, by key indices.
     void triangle(std::uint32_t p, std::uint32_t q, std::uint32_t r)
     {
-        mOut->patchOf.push_back(mLastPatch);
+        mPatchOf.push_back(mLastPatch);
         ++mOut->patchCounts[mLastPatch];
-        mOut->corners.push_back(p);
-        mOut->corners.push_back(mUp ? q : r);
-        mOut->corners.push_back(mUp ? r : q);
+        mCorners.push_back(p);
+        mCorners.push_back(mUp ? q : r);
+        mCorners.push_back(mUp ? r : q);
     }
 
     /// Two triangles of a quad given counter-clockwise seen from +axis.
@@ -541,6 +549,10 @@ private:
     std::vector<std::uint64_t> mFacePairs;
     std::vector<char> mUsed;
     KeyIndex mIndex;
+    /// The block's keys, corners and patch indices, grown here (reused from block to block)
+    /// and copied to its BlockMesh at the end.
+    std::vector<LocalKey> mKeys;
+    std::vector<std::uint32_t> mCorners, mPatchOf;
     BlockMesh* mOut = nullptr;
     std::uint32_t mLastPatch = 0;
     bool mUp = true;
