@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 #include <utility>
 
 namespace vdbi {
@@ -63,54 +62,56 @@ trianglesCross(const std::vector<Vec3d>& points, const openvdb::Vec3I& s,
     return false;
 }
 
-/// Triangles bucketed by the grid cells their bounding boxes overlap.
+/// @brief Triangles bucketed by the grid cells their bounding boxes overlap, built once.
+/// @details No vertex moves farther than a margin from where it was when the grid was built,
+/// so every box is widened by that margin: two triangles that can ever meet share a cell.
 class CandidateGrid
 {
 public:
-    CandidateGrid(const InterfaceMesh& mesh, double cellSize)
-        : mMesh(mesh), mInverse(1.0 / cellSize)
+    CandidateGrid(const InterfaceMesh& mesh, double cellSize, double margin)
+        : mInverse(1.0 / cellSize)
     {
         const std::size_t count = mesh.triangles.size();
         mLow.resize(count);
         mHigh.resize(count);
         for (std::uint32_t f = 0; f < count; ++f) {
             const openvdb::Vec3I& t = mesh.triangles[f];
-            openvdb::Vec3i lo = cell(mesh.points[t[0]]), hi = lo;
+            Vec3d lo = mesh.points[t[0]], hi = lo;
             for (int i = 1; i < 3; ++i) {
-                const openvdb::Vec3i c = cell(mesh.points[t[i]]);
-                lo = openvdb::math::minComponent(lo, c);
-                hi = openvdb::math::maxComponent(hi, c);
+                lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
+                hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
             }
-            mLow[f] = lo;
-            mHigh[f] = hi;
-            for (int x = lo[0]; x <= hi[0]; ++x) {
-                for (int y = lo[1]; y <= hi[1]; ++y) {
-                    for (int z = lo[2]; z <= hi[2]; ++z) {
-                        mCells[key(openvdb::Vec3i(x, y, z))].push_back(f);
-                    }
-                }
-            }
+            mLow[f] = cell(lo - Vec3d(margin));
+            mHigh[f] = cell(hi + Vec3d(margin));
+            forEachCell(f, [&](std::uint64_t key) { mEntries.emplace_back(key, f); });
         }
+        std::sort(mEntries.begin(), mEntries.end());
     }
 
-    /// Every pair (first < second) of triangles sharing a cell with at least one of them
-    /// active, once each, sorted.
+    /// Every pair (first < second) of triangles of different patches (@a patchOf) sharing a
+    /// cell with at least one of them active, once each, sorted. Only the cells of active
+    /// triangles are visited.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>
-    candidatePairs(const std::vector<char>& active) const
+    candidatePairs(const std::vector<char>& active,
+                   const std::vector<std::uint32_t>& patchOf) const
     {
         std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-        for (const auto& [cellKey, list] : mCells) {
-            for (std::size_t i = 0; i < list.size(); ++i) {
-                for (std::size_t j = i + 1; j < list.size(); ++j) {
-                    const std::uint32_t f = list[i], g = list[j];
-                    if (!active[f] && !active[g]) continue;
+        for (std::uint32_t f = 0; f < active.size(); ++f) {
+            if (!active[f]) continue;
+            forEachCell(f, [&](std::uint64_t cellKey) {
+                auto it = std::lower_bound(mEntries.begin(), mEntries.end(),
+                                           std::make_pair(cellKey, std::uint32_t(0)));
+                for (; it != mEntries.end() && it->first == cellKey; ++it) {
+                    const std::uint32_t g = it->second;
+                    // Two active triangles: taken from the smaller one.
+                    if (patchOf[g] == patchOf[f] || (active[g] && g < f)) continue;
                     // A pair sharing several cells is taken in the lowest one.
                     openvdb::Vec3i lo;
                     for (int k = 0; k < 3; ++k) lo[k] = std::max(mLow[f][k], mLow[g][k]);
                     if (key(lo) != cellKey) continue;
                     pairs.emplace_back(std::min(f, g), std::max(f, g));
                 }
-            }
+            });
         }
         std::sort(pairs.begin(), pairs.end());
         return pairs;
@@ -128,11 +129,22 @@ private:
         return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
             | (std::uint64_t(c[2]) & mask);
     }
+    template<typename Body>
+    void forEachCell(std::uint32_t f, const Body& body) const
+    {
+        for (int x = mLow[f][0]; x <= mHigh[f][0]; ++x) {
+            for (int y = mLow[f][1]; y <= mHigh[f][1]; ++y) {
+                for (int z = mLow[f][2]; z <= mHigh[f][2]; ++z) {
+                    body(key(openvdb::Vec3i(x, y, z)));
+                }
+            }
+        }
+    }
 
-    const InterfaceMesh& mMesh;
     double mInverse;
     std::vector<openvdb::Vec3i> mLow, mHigh;
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> mCells;
+    /// (cell key, triangle) of every cell a triangle's box overlaps, sorted.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> mEntries;
 };
 
 } // namespace
@@ -168,12 +180,11 @@ separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     std::vector<std::uint32_t> pushed;
     std::vector<Vec3d> before;
     std::size_t crossing = 0;
+    const CandidateGrid grid(mesh, settings.cellSize, settings.maxMove);
     for (int round = 0; round < settings.rounds; ++round) {
-        const CandidateGrid grid(mesh, settings.cellSize);
         crossing = 0;
         pushed.clear();
-        for (const auto& [f, g] : grid.candidatePairs(active)) {
-            if (patchOf[f] == patchOf[g]) continue;
+        for (const auto& [f, g] : grid.candidatePairs(active, patchOf)) {
             if (!trianglesCross(mesh.points, mesh.triangles[f], mesh.triangles[g])) continue;
             ++crossing;
             const InterfacePatch &pf = mesh.patches[patchOf[f]], &pg = mesh.patches[patchOf[g]];

@@ -32,7 +32,9 @@ struct SeparationSettings
 /// wedge of that label has turned inside out. Each round finds the crossing pairs (segment
 /// through triangle, shared corners excepted; a uniform grid gives the candidates) and moves
 /// each free corner of a crossing triangle one step along its vertex normal, away from the
-/// shared label: both sides turn back and the wedge opens. A move that would turn one of the
+/// shared label: both sides turn back and the wedge opens. The grid is built once, every
+/// triangle's box widened by maxMove; a round tests only the pairs of triangles whose
+/// vertices moved in the round before. A move that would turn one of the
 /// vertex's triangles over, or take it farther than maxMove from its start, is not made.
 /// Serial, in sorted order: the result depends on the mesh alone.
 /// @param mesh     [in,out] the remeshed patches

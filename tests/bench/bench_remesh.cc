@@ -125,12 +125,21 @@ main(int argc, char** argv)
     for (const Runs& r : runs) {
         const vdbi_test::MeshReport report = vdbi_test::checkMesh(r.remeshed, false);
         const vdbi_test::Closeness c = vdbi_test::measureCloseness(r.raw, r.remeshed, voxel);
-        const auto found = vdbi_test::findSelfIntersections(r.remeshed, r.voxels * voxel[0]);
+        const auto found = vdbi_test::findSelfIntersections(r.remeshed, r.voxels * voxel[0],
+                                                            std::size_t(-1));
+        // Patch of every triangle, to tell crossings within one patch from those between two.
+        std::vector<std::size_t> patchOf(r.remeshed.triangles.size());
+        for (std::size_t p = 0; p < r.remeshed.patches.size(); ++p) {
+            const vdbi::InterfacePatch& patch = r.remeshed.patches[p];
+            std::fill_n(patchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
+        }
+        std::size_t withinPatch = 0;
+        for (const auto& pair : found) withinPatch += patchOf[pair.first] == patchOf[pair.second];
         std::printf("%g voxels: checker %s; closeness: vertex->raw %.3f, raw->remeshed %.3f "
-                    "voxels; intersections: %s\n", r.voxels, report.ok() ? "ok" :
-                    report.summary().c_str(), c.vertexToRaw, c.rawToOutput,
-                    found.empty() ? "none" : vdbi_test::describeIntersections(r.remeshed, found)
-                        .c_str());
+                    "voxels; intersections (%zu within one patch): %s\n", r.voxels,
+                    report.ok() ? "ok" : report.summary().c_str(), c.vertexToRaw,
+                    c.rawToOutput, withinPatch, found.empty() ? "none" :
+                    vdbi_test::describeIntersections(r.remeshed, found).c_str());
     }
     return 0;
 }

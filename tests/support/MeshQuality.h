@@ -15,6 +15,13 @@ struct MeshQuality
 {
     std::size_t triangles = 0, edges = 0;
     double inRange = 0.0;   ///< fraction of edges within [0.5, 1.5] x target
+    /// Edges out of range, by kind: on a feature curve (a patch boundary), inner with an end
+    /// on a curve, inner away from the curves; too short and too long.
+    std::size_t shortCurve = 0, shortNearCurve = 0, shortInner = 0;
+    std::size_t longCurve = 0, longNearCurve = 0, longInner = 0;
+    /// Triangles with a smallest angle below 25 degrees, by how many corners lie on a
+    /// feature curve (0, 1, 2 or 3).
+    std::size_t sharpByCurveCorners[4] = {0, 0, 0, 0};
     /// Smallest angle of every triangle, in degrees: min, 1st percentile, median.
     double minAngle = 0.0, angleP1 = 0.0, angleMedian = 0.0;
     /// Radius ratio 2 r_in / r_circ of every triangle (1 for an equilateral one): min, 1st
