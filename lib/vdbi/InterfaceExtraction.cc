@@ -24,69 +24,6 @@ namespace {
 using openvdb::Coord;
 using LabelPair = std::array<Label, 2>;
 
-/// Which coarse voxels of a block's window are subdivided.
-class MaskWindow
-{
-public:
-    using Accessor = openvdb::tree::ValueAccessor<const openvdb::MaskTree, false>;
-
-    /// Returns false (and loads nothing) when no subdivided voxel is near the block.
-    bool load(Accessor& acc, const Coord& origin)
-    {
-        using LeafT = openvdb::MaskTree::LeafNodeType;
-        bool any = false;
-        for (int n = 0; n < 27; ++n) {
-            const Coord leafOrigin = origin.offsetBy((n % 3 - 1) * BLOCK_DIM,
-                ((n / 3) % 3 - 1) * BLOCK_DIM, (n / 9 - 1) * BLOCK_DIM);
-            mLeaves[n] = acc.probeConstLeaf(leafOrigin);
-            mTiles[n] = !mLeaves[n] && acc.isValueOn(leafOrigin);
-            any = any || mLeaves[n] || mTiles[n];
-        }
-        if (!any) return false;
-        // Window range and first leaf coordinate of the part of each neighbour leaf it
-        // overlaps, per axis: the last layer of the leaf below, all 8 of the block's leaf,
-        // the first layer of the leaf above.
-        static constexpr int FIRST[3] = {0, 1, DIM - 1}, END[3] = {1, DIM - 1, DIM},
-                             LEAF_FIRST[3] = {BLOCK_DIM - 1, 0, 0};
-        std::fill(std::begin(mOn), std::end(mOn), false);
-        for (int n = 0; n < 27; ++n) {
-            if (!mLeaves[n] && !mTiles[n]) continue;
-            const int px = n % 3, py = (n / 3) % 3, pz = n / 9;
-            for (int x = FIRST[px]; x < END[px]; ++x) {
-                for (int y = FIRST[py]; y < END[py]; ++y) {
-                    bool* row = mOn + LabelWindow::index(x, y, 0);
-                    if (mTiles[n]) {
-                        std::fill(row + FIRST[pz], row + END[pz], true);
-                        continue;
-                    }
-                    openvdb::Index i = LeafT::coordToOffset(Coord(x - FIRST[px] + LEAF_FIRST[px],
-                        y - FIRST[py] + LEAF_FIRST[py], LEAF_FIRST[pz]));
-                    for (int z = FIRST[pz]; z < END[pz]; ++z, ++i) {
-                        row[z] = mLeaves[n]->isValueOn(i);
-                    }
-                }
-            }
-        }
-        return true;
-    }
-    bool at(int flat) const { return mOn[flat]; }
-    /// Whether a voxel of the rows of LabelWindow::isUniform() is subdivided.
-    bool anyOn(const int* rows, int count) const
-    {
-        bool any = false;
-        for (int r = 0; r < count; ++r) {
-            for (int z = 0; z < DIM - 1; ++z) any |= mOn[rows[r] + z];
-        }
-        return any;
-    }
-
-private:
-    static constexpr int DIM = LabelWindow::DIM;
-    const openvdb::MaskTree::LeafNodeType* mLeaves[27];
-    bool mTiles[27];
-    bool mOn[DIM * DIM * DIM];
-};
-
 /// A vertex key relative to the block that emits it: the key minus 2s * (block origin). Its
 /// components lie in [0, 8 * 2s] (at most 112 for s = 7), packed 8 bits each as
 /// x << 16 | y << 8 | z, so the keys of one block compare and sort like their global keys.

@@ -73,4 +73,45 @@ LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
     }
 }
 
+bool
+MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
+{
+    using LeafT = openvdb::MaskTree::LeafNodeType;
+    bool any = false;
+    for (int n = 0; n < 27; ++n) {
+        const openvdb::Coord leafOrigin = origin.offsetBy((n % 3 - 1) * BLOCK_DIM,
+            ((n / 3) % 3 - 1) * BLOCK_DIM, (n / 9 - 1) * BLOCK_DIM);
+        mLeaves[n] = acc.probeConstLeaf(leafOrigin);
+        mTiles[n] = !mLeaves[n] && acc.isValueOn(leafOrigin);
+        any = any || mLeaves[n] || mTiles[n];
+    }
+    if (!any) return false;
+    // Window range and first leaf coordinate of the part of each neighbour leaf it
+    // overlaps, per axis: the last layer of the leaf below, all 8 of the block's leaf,
+    // the first layer of the leaf above.
+    static constexpr int FIRST[3] = {0, 1, DIM - 1}, END[3] = {1, DIM - 1, DIM},
+                         LEAF_FIRST[3] = {BLOCK_DIM - 1, 0, 0};
+    std::fill(std::begin(mOn), std::end(mOn), false);
+    for (int n = 0; n < 27; ++n) {
+        if (!mLeaves[n] && !mTiles[n]) continue;
+        const int px = n % 3, py = (n / 3) % 3, pz = n / 9;
+        for (int x = FIRST[px]; x < END[px]; ++x) {
+            for (int y = FIRST[py]; y < END[py]; ++y) {
+                bool* row = mOn + LabelWindow::index(x, y, 0);
+                if (mTiles[n]) {
+                    std::fill(row + FIRST[pz], row + END[pz], true);
+                    continue;
+                }
+                openvdb::Index i = LeafT::coordToOffset(openvdb::Coord(
+                    x - FIRST[px] + LEAF_FIRST[px], y - FIRST[py] + LEAF_FIRST[py],
+                    LEAF_FIRST[pz]));
+                for (int z = FIRST[pz]; z < END[pz]; ++z, ++i) {
+                    row[z] = mLeaves[n]->isValueOn(i);
+                }
+            }
+        }
+    }
+    return true;
+}
+
 } // namespace vdbi

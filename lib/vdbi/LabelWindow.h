@@ -67,6 +67,34 @@ private:
     openvdb::Coord mOrigin;
 };
 
+/// @brief Which voxels of a block's window (LabelWindow) are subdivided, read from the
+/// subdivision mask of the repair.
+class MaskWindow
+{
+public:
+    using Accessor = openvdb::tree::ValueAccessor<const openvdb::MaskTree, false>;
+
+    /// Returns false (and loads nothing) when no subdivided voxel is near the block.
+    bool load(Accessor& acc, const openvdb::Coord& origin);
+    /// Whether the voxel at flat index @a flat (LabelWindow::index()) is subdivided.
+    bool at(int flat) const { return mOn[flat]; }
+    /// Whether a voxel of the rows of LabelWindow::isUniform() is subdivided.
+    bool anyOn(const int* rows, int count) const
+    {
+        bool any = false;
+        for (int r = 0; r < count; ++r) {
+            for (int z = 0; z < DIM - 1; ++z) any |= mOn[rows[r] + z];
+        }
+        return any;
+    }
+
+private:
+    static constexpr int DIM = LabelWindow::DIM;
+    const openvdb::MaskTree::LeafNodeType* mLeaves[27];
+    bool mTiles[27];
+    bool mOn[DIM * DIM * DIM];
+};
+
 } // namespace vdbi
 
 #endif // VDBI_LABEL_WINDOW_HAS_BEEN_INCLUDED
