@@ -172,6 +172,9 @@ struct MemoryResult
     /// Per thread count: VmHWM during repair + extraction (absolute), and the growth over the
     /// RSS before it.
     std::array<long, 2> peakKb{}, growthKb{};
+    /// Per thread count: seconds of that single run, the first in its process (every page it
+    /// writes is new to the process), beside the timing process's medians of repeated runs.
+    std::array<double, 2> firstRunSeconds{};
     bool ok = false;
 };
 
@@ -198,7 +201,7 @@ measureMemory(int count, const Settings& settings)
         vdbi::InterfaceMesh mesh;
         const bool canPeak = resetPeak();
         const MemKb before = readMem();
-        repairAndExtract(labels, &mesh);
+        r.firstRunSeconds[t] = repairAndExtract(labels, &mesh).total;
         const MemKb after = readMem();
         r.peakKb[t] = canPeak ? after.hwm : -1;
         r.growthKb[t] = canPeak ? after.hwm - before.rss : -1;
@@ -389,6 +392,19 @@ main(int argc, char** argv)
         const MemoryResult& m = mem[std::size_t(n)];
         std::printf("  k=%-2d %7ld / %7ld / %7ld / %7ld; %7ld / %7ld\n", COPY_COUNTS[n],
             m.emptyKb, m.volumeKb, m.peakKb[0], m.peakKb[1], m.growthKb[0], m.growthKb[1]);
+    }
+    std::printf("one run per k in a process of its own (the memory runs: 1 thread first, then 2), "
+        "repair + extraction s, ns per labelled voxel and its ratio to k = 1:\n");
+    for (int n = 0; n < cases; ++n) {
+        const MemoryResult& m = mem[std::size_t(n)];
+        std::printf("  k=%-2d", COPY_COUNTS[n]);
+        for (std::size_t t = 0; t < 2; ++t) {
+            const double ns = 1e9 * m.firstRunSeconds[t] / double(m.labelledVoxels);
+            const double ns1 = 1e9 * mem[0].firstRunSeconds[t] / double(mem[0].labelledVoxels);
+            std::printf("   %d thr %8.4f s %7.1f ns %5.2f", THREAD_COUNTS[t],
+                m.firstRunSeconds[t], ns, ns / ns1);
+        }
+        std::printf("\n");
     }
     std::printf("\nru_maxrss of the timing process (all volumes): %ld kB\n", timingRss);
     std::printf("timing process: %.1f s wall, %.1f s CPU (user + system)\n", timingWall,
