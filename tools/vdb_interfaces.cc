@@ -7,6 +7,7 @@
 /// (a message plus a usage line).
 
 #include <vdbi/AtomicFile.h>
+#include <vdbi/HugePages.h>
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
 #include <vdbi/MeshWriter.h>
@@ -600,6 +601,7 @@ removeTemporariesOnSignal()
 int
 main(int argc, char* argv[])
 {
+    vdbi::restartWithHugePages(argv); // before any thread or signal mask: see HugePages.h
     removeTemporariesOnSignal();
     openvdb::initialize();
 

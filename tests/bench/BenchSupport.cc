@@ -84,6 +84,16 @@ loadAverage()
     return a + " " + b + " " + c;
 }
 
+std::string
+heapPages()
+{
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    const std::string t = tunables ? tunables : "";
+    return t.find("glibc.malloc.hugetlb=1") != std::string::npos
+        ? "transparent huge pages requested (GLIBC_TUNABLES=" + t + ")"
+        : "4 KiB pages (the system malloc's default)";
+}
+
 long long
 meshBytes(const vdbi::InterfaceMesh& m)
 {

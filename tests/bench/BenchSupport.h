@@ -49,6 +49,10 @@ bool resetPeak();
 /// The 1, 5 and 15 minute load averages, as /proc/loadavg gives them.
 std::string loadAverage();
 
+/// The page size the heap asks for: the benchmarks restart themselves with huge pages as the
+/// CLI does (vdbi::restartWithHugePages), unless GLIBC_TUNABLES says otherwise.
+std::string heapPages();
+
 /// Bytes of the mesh's arrays (points, triangles, keys, patches), at their sizes.
 long long meshBytes(const vdbi::InterfaceMesh& mesh);
 

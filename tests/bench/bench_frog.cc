@@ -27,6 +27,7 @@
 
 #include <vdbi/CriticalElements.h>
 #include <vdbi/Fattening.h>
+#include <vdbi/HugePages.h>
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/LabelGrid.h>
 #include <vdbi/LabelVolumeReader.h>
@@ -59,6 +60,7 @@ namespace {
 
 using vdbi_bench::Clock;
 using vdbi_bench::cpuSeconds;
+using vdbi_bench::heapPages;
 using vdbi_bench::loadAverage;
 using vdbi_bench::median;
 using vdbi_bench::MemKb;
@@ -350,6 +352,7 @@ printThroughput(const char* setup, const TimeResult& t, const Sizes& z, bool rem
 int
 main(int argc, char** argv)
 {
+    vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
     int reps = 7, threads = 1;
     bool frogOnly = false, profileRun = false, remesh = true;
     std::string keep;
@@ -376,8 +379,9 @@ main(int argc, char** argv)
 
     std::printf("bench_frog: %d volume(s) x {serial, TBB 1 thread, TBB 2 threads}; "
         "%d timed rounds (interleaved) after a warm-up round; remeshing %s; .ply into %s\n"
-        "load average before: %s\n", volumes, reps, remesh ? "on" : "off (--no-remesh)",
-        outDir.c_str(), loadAverage().c_str());
+        "load average before: %s; heap: %s\n", volumes, reps,
+        remesh ? "on" : "off (--no-remesh)", outDir.c_str(), loadAverage().c_str(),
+        heapPages().c_str());
 
     // Memory first: one process per (volume, setup), one run each.
     std::vector<std::array<MemoryResult, SETUP_COUNT>> mem{std::size_t(volumes)};

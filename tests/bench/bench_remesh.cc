@@ -18,6 +18,7 @@
 #include "support/MeshQuality.h"
 #include "support/TestData.h"
 
+#include <vdbi/HugePages.h>
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
 #include <vdbi/Remeshing.h>
@@ -56,6 +57,7 @@ struct Runs
 int
 main(int argc, char** argv)
 {
+    vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
     int reps = 3, threads = 0;
     bool check = false;
     std::string volume = vdbi_test::dataPath("frogtissue.mhd");
@@ -77,6 +79,7 @@ main(int argc, char** argv)
     openvdb::initialize();
     const openvdb::Int32Grid::Ptr grid = vdbi::readLabelVolume(volume);
     const openvdb::Vec3d voxel = grid->voxelSize();
+    std::printf("heap: %s\n", vdbi_bench::heapPages().c_str());
     std::printf("%s: voxel %g x %g x %g, %d runs per length%s\n", volume.c_str(), voxel[0],
                 voxel[1], voxel[2], reps, threads > 0 ? "" : ", all threads");
 

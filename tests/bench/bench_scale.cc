@@ -31,6 +31,7 @@
 
 #include <vdbi/CriticalElements.h>
 #include <vdbi/Fattening.h>
+#include <vdbi/HugePages.h>
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/LabelGrid.h>
 #include <vdbi/LabelVolumeReader.h>
@@ -54,6 +55,7 @@ namespace {
 using openvdb::Coord;
 using openvdb::CoordBBox;
 using vdbi_bench::Clock;
+using vdbi_bench::heapPages;
 using vdbi_bench::loadAverage;
 using vdbi_bench::median;
 using vdbi_bench::MemKb;
@@ -267,6 +269,7 @@ measureTimes(int cases, const Settings& settings)
 int
 main(int argc, char** argv)
 {
+    vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
     Settings settings;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
@@ -289,7 +292,8 @@ main(int argc, char** argv)
 
     std::printf("bench_scale: k copies of frogtissue.mhd (labels + 30 c) over a span of %d "
         "voxels per axis, seed %u; repair + extraction with TBB at 1 and 2 threads\n"
-        "load average before: %s\n", settings.span, settings.seed, loadAverage().c_str());
+        "load average before: %s; heap: %s\n", settings.span, settings.seed,
+        loadAverage().c_str(), heapPages().c_str());
 
     std::vector<MemoryResult> mem(static_cast<std::size_t>(cases));
     bool ok = true;

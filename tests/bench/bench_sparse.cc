@@ -19,6 +19,7 @@
 
 #include <vdbi/CriticalElements.h>
 #include <vdbi/Fattening.h>
+#include <vdbi/HugePages.h>
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/LabelGrid.h>
 #include <vdbi/LabelWindow.h>
@@ -39,6 +40,7 @@ namespace {
 
 using openvdb::Coord;
 using vdbi_bench::Clock;
+using vdbi_bench::heapPages;
 using vdbi_bench::loadAverage;
 using vdbi_bench::median;
 using vdbi_bench::MemKb;
@@ -209,6 +211,7 @@ measureTimes(int reps)
 int
 main(int argc, char** argv)
 {
+    vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
     int reps = 11, threads = 2;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
@@ -221,7 +224,8 @@ main(int argc, char** argv)
     }
 
     std::printf("bench_sparse: two random-label balls (r = 6, labels 1..4, seeds 1 and 2), "
-        "%d TBB thread(s)\nload average before: %s\n\n", threads, loadAverage().c_str());
+        "%d TBB thread(s)\nload average before: %s; heap: %s\n\n", threads,
+        loadAverage().c_str(), heapPages().c_str());
 
     // Memory: every placement in a process of its own.
     std::vector<MemoryResult> mem(PLACEMENT_COUNT);

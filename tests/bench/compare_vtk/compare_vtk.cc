@@ -23,6 +23,7 @@
 
 #include <vdbi/CriticalElements.h>
 #include <vdbi/Fattening.h>
+#include <vdbi/HugePages.h>
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/LabelGrid.h>
 #include <vdbi/LabelVolumeReader.h>
@@ -204,6 +205,7 @@ countUnmatchedEdges(vtkPolyData* surfaces, const std::array<double, 3>& spacing,
 int
 main(int argc, char** argv)
 {
+    vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
     int reps = 7;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
@@ -229,7 +231,8 @@ main(int argc, char** argv)
         vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend());
     std::printf("vtkDiscreteFlyingEdges3D with %zu contour values (every label but the "
         "background; normals, gradients off, scalars on) vs our repair + extraction\n"
-        "load average before: %s\n", contoured.size(), vdbi_bench::loadAverage().c_str());
+        "load average before: %s; heap: %s\n", contoured.size(),
+        vdbi_bench::loadAverage().c_str(), vdbi_bench::heapPages().c_str());
 
     const int threadCounts[] = {1, 2};
     // Wall seconds of VTK, of our repair + extraction and of our prepare; CPU seconds (all
