@@ -64,12 +64,18 @@ unsupportedBecause()
 
 } // namespace
 
-class TestHugePages : public ::testing::Test {};
+class TestHugePages : public ::testing::Test
+{
+protected:
+    void SetUp() override
+    {
+        const std::string reason = unsupportedBecause();
+        if (!reason.empty()) GTEST_SKIP() << reason;
+    }
+};
 
 TEST_F(TestHugePages, testRestartGivesTheHeapHugePages)
 {
-    const std::string reason = unsupportedBecause();
-    if (!reason.empty()) GTEST_SKIP() << reason;
     const ProbeResult r = runProbe("");
     EXPECT_EQ(r.tunables, "glibc.malloc.hugetlb=1");
     // 64 MiB touched: at least one 2 MiB page, where the kernel had one to give (it usually
@@ -79,8 +85,6 @@ TEST_F(TestHugePages, testRestartGivesTheHeapHugePages)
 
 TEST_F(TestHugePages, testUsersChoiceIsKept)
 {
-    const std::string reason = unsupportedBecause();
-    if (!reason.empty()) GTEST_SKIP() << reason;
     // Opting out: no restart, and the heap keeps 4 KiB pages.
     const ProbeResult off = runProbe("glibc.malloc.hugetlb=0");
     EXPECT_EQ(off.tunables, "glibc.malloc.hugetlb=0");
