@@ -41,13 +41,20 @@ keyComponent(LocalKey k, int axis)
 /// BlockMesh::byOwner's entry of the keys inside a block, which no other block emits.
 constexpr int INSIDE = 8;
 
+/// Consecutive triangles of a block in one patch.
+struct PatchRun
+{
+    std::uint32_t patch; ///< index into BlockMesh::patches
+    std::uint32_t count;
+};
+
 /// Triangles of one block, before vertices are numbered globally.
 struct BlockMesh
 {
     std::vector<LocalKey> keys;             ///< distinct corner keys, in order of first use
     std::vector<std::uint32_t> corners;     ///< 3 per triangle: indices into keys
     std::vector<LabelPair> patches;         ///< distinct label pairs, in order of first use
-    std::vector<std::uint32_t> patchOf;     ///< per triangle: index into patches
+    std::vector<PatchRun> runs;             ///< the triangles in order, patch by patch
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
     /// A key on the block's max faces is numbered by the neighbour at origin + 8d, where bit a
     /// of d says the key is on the max face along a; the others (d = 0) by the block itself.
@@ -157,8 +164,8 @@ public:
         mOut = &out;
         mIndex.reset(mKeys);
         mKeys.clear();
-        mCorners.clear();
-        mPatchOf.clear();
+        mCornerCount = 0;
+        mRuns.clear();
         forgetFineVoxels();
         const Coord& o = w.origin();
         const bool clipped = !owners.empty();
@@ -175,7 +182,9 @@ public:
                     const int flat = LabelWindow::index(i + 1, j + 1, k + 1);
                     const Label upper = w.data()[flat];
                     const bool upperSub = mask && mask->at(flat);
-                    if (upperSub) interiorFaces(local, fineVoxel(v, flat, upper), upper);
+                    const FineVoxel upperFine = upperSub ? fineVoxel(v, flat, upper)
+                                                         : FineVoxel{upper, nullptr};
+                    if (upperFine.labels) interiorFaces(local, upperFine.labels);
                     for (int a = 0; a < 3; ++a) {
                         const int lowerFlat = flat - LabelWindow::STRIDE[a];
                         const Label lower = w.data()[lowerFlat];
@@ -183,9 +192,8 @@ public:
                         if (upperSub || lowerSub) {
                             Coord u = v;
                             u[a] -= 1;
-                            splitFace(local, a, lower,
-                                lowerSub ? fineVoxel(u, lowerFlat, lower) : nullptr, upper,
-                                upperSub ? fineVoxel(v, flat, upper) : nullptr);
+                            splitFace(local, a, lowerSub ? fineVoxel(u, lowerFlat, lower)
+                                                         : FineVoxel{lower, nullptr}, upperFine);
                         } else if (lower != upper) {
                             coarseFace(local, a, lower, upper, flat, mask);
                         }
@@ -195,8 +203,9 @@ public:
         }
         // Exact sizes: the blocks keep these until the end of the extraction.
         out.keys.assign(mKeys.begin(), mKeys.end());
-        out.corners.assign(mCorners.begin(), mCorners.end());
-        out.patchOf.assign(mPatchOf.begin(), mPatchOf.end());
+        out.corners.assign(mCorners.begin(), mCorners.begin() + std::ptrdiff_t(mCornerCount));
+        out.runs.assign(mRuns.begin(), mRuns.end());
+        for (const PatchRun& run : mRuns) out.patchCounts[run.patch] += run.count;
     }
 
 private:
@@ -206,31 +215,41 @@ private:
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
-        if (mOut->patches.empty() || mOut->patches[mLastPatch][0] != pair[0]
-            || mOut->patches[mLastPatch][1] != pair[1]) {
-            const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
-            mLastPatch = std::uint32_t(it - mOut->patches.begin());
-            if (it == mOut->patches.end()) {
-                mOut->patches.push_back(pair);
-                mOut->patchCounts.push_back(0);
-            }
+        if (!mRuns.empty() && mOut->patches[mRuns.back().patch] == pair) return;
+        const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
+        const auto patch = std::uint32_t(it - mOut->patches.begin());
+        if (it == mOut->patches.end()) {
+            mOut->patches.push_back(pair);
+            mOut->patchCounts.push_back(0);
+        }
+        mRuns.push_back(PatchRun{patch, 0});
+    }
+
+    /// Makes room for @a n more triangles, so that triangle() needs no check.
+    void reserveTriangles(std::size_t n)
+    {
+        if (mCornerCount + 3 * n > mCorners.size()) {
+            mCorners.resize(std::max(2 * mCorners.size(), mCornerCount + 3 * n));
         }
     }
 
-    /// Appends a triangle given counter-clockwise seen from +axis, by key indices.
+    /// Appends a triangle given counter-clockwise seen from +axis, by key indices (room
+    /// made by reserveTriangles()).
     void triangle(std::uint32_t p, std::uint32_t q, std::uint32_t r)
     {
-        mPatchOf.push_back(mLastPatch);
-        ++mOut->patchCounts[mLastPatch];
-        mCorners.push_back(p);
-        mCorners.push_back(mUp ? q : r);
-        mCorners.push_back(mUp ? r : q);
+        ++mRuns.back().count;
+        std::uint32_t* c = mCorners.data() + mCornerCount;
+        c[0] = p;
+        c[1] = mUp ? q : r;
+        c[2] = mUp ? r : q;
+        mCornerCount += 3;
     }
 
     /// Two triangles of a quad given counter-clockwise seen from +axis.
     void quad(LocalKey c0, LocalKey c1, LocalKey c2, LocalKey c3)
     {
         const std::uint32_t i0 = mIndex.insert(c0), i2 = mIndex.insert(c2);
+        reserveTriangles(2);
         triangle(i0, mIndex.insert(c1), i2);
         triangle(i0, i2, mIndex.insert(c3));
     }
@@ -241,6 +260,7 @@ private:
              const std::int32_t (&step)[4])
     {
         const std::uint32_t c = mIndex.insert(centre);
+        reserveTriangles(std::size_t(pieces[0] + pieces[1] + pieces[2] + pieces[3]));
         LocalKey p = start;
         std::uint32_t ip = mIndex.insert(p);
         for (int side = 0; side < 4; ++side) {
@@ -293,9 +313,19 @@ private:
              corner + LocalKey(K * uc));
     }
 
-    /// The s^3 fine labels of subdivided coarse voxel @a v at window index @a flat, labelled
-    /// @a coarse, at ((x * s) + y) * s + z; read once per block from the leaf buffers.
-    const Label* fineVoxel(const Coord& v, int flat, Label coarse)
+    /// The fine labels of one side of a face: @a labels (s^3, see fineVoxel()), or null when
+    /// all of them are @a label.
+    struct FineVoxel
+    {
+        Label label;
+        const Label* labels;
+    };
+
+    /// The fine labels of subdivided coarse voxel @a v at window index @a flat, labelled
+    /// @a coarse, at ((x * s) + y) * s + z; read once per block from the leaf buffers. Labels
+    /// are null where all s^3 are equal (about half of the subdivided voxels on real data):
+    /// such a voxel has no inner face, and its faces are those of a coarse voxel, split.
+    FineVoxel fineVoxel(const Coord& v, int flat, Label coarse)
     {
         if (mFineSlot[flat] < 0) {
             mFineSlot[flat] = int(mFineFlats.size());
@@ -303,9 +333,11 @@ private:
             if (mFineStore.size() < mFineFlats.size()) {
                 mFineStore.emplace_back(new Label[std::size_t(mS) * mS * mS]);
             }
-            readFineVoxel(v, coarse, mFineStore[std::size_t(mFineSlot[flat])].get());
+            Label* labels = mFineStore[std::size_t(mFineSlot[flat])].get();
+            mFineUniform[flat] = readFineVoxel(v, coarse, labels);
         }
-        return mFineStore[std::size_t(mFineSlot[flat])].get();
+        const Label* labels = mFineStore[std::size_t(mFineSlot[flat])].get();
+        return mFineUniform[flat] ? FineVoxel{labels[0], nullptr} : FineVoxel{coarse, labels};
     }
 
     /// Starts a block: the window voxels change, the buffers are kept.
@@ -316,8 +348,8 @@ private:
     }
 
     /// Fills @a out as fineVoxel() describes, leaf by leaf: a fine voxel that is not active
-    /// keeps the coarse label.
-    void readFineVoxel(const Coord& v, Label coarse, Label* out)
+    /// keeps the coarse label. Returns whether all s^3 labels are equal.
+    bool readFineVoxel(const Coord& v, Label coarse, Label* out)
     {
         using LeafT = openvdb::Int32Tree::LeafNodeType;
         const int s = mS;
@@ -334,54 +366,94 @@ private:
         }
         // Most fine voxels are not active: fill with the coarse label, then copy the others.
         std::fill_n(out, s * s * s, coarse);
+        bool changed = false;
         for (int px = 0; px < pieces[0]; ++px) {
             for (int py = 0; py < pieces[1]; ++py) {
                 for (int pz = 0; pz < pieces[2]; ++pz) {
                     const Coord first = lo.offsetBy(cut[0][px], cut[1][py], cut[2][pz]);
                     const LeafT* leaf = mFine.probeConstLeaf(first);
-                    if (!leaf && !mFine.isValueOn(first)) continue;
-                    const Label tile = leaf ? coarse : mFine.getValue(first);
-                    const Label* values = leaf ? leaf->buffer().data() : nullptr;
+                    if (!leaf) {
+                        if (!mFine.isValueOn(first)) continue;
+                        const Label tile = mFine.getValue(first);
+                        changed = changed || tile != coarse;
+                        for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
+                            for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
+                                Label* dst = out + (x * s + y) * s;
+                                std::fill(dst + cut[2][pz], dst + cut[2][pz + 1], tile);
+                            }
+                        }
+                        continue;
+                    }
+                    // A row along z inside a leaf is one byte of its value mask: visit only
+                    // its active voxels.
+                    const int z0 = cut[2][pz], zn = cut[2][pz + 1] - z0;
+                    const int leafZ0 = (lo.z() + z0) & int(LeafT::DIM - 1);
+                    const unsigned rowBits = (1u << zn) - 1u;
+                    const Label* values = leaf->buffer().data();
                     for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
                         for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
-                            Label* dst = out + (x * s + y) * s;
-                            if (!leaf) {
-                                std::fill(dst + cut[2][pz], dst + cut[2][pz + 1], tile);
-                                continue;
-                            }
-                            // Inside one leaf, z is the fastest axis of the buffer.
-                            openvdb::Index i = LeafT::coordToOffset(
-                                lo.offsetBy(x, y, cut[2][pz]));
-                            for (int z = cut[2][pz]; z < cut[2][pz + 1]; ++z, ++i) {
-                                if (leaf->getValueMask().isOn(i)) dst[z] = values[i];
+                            const openvdb::Index row = LeafT::coordToOffset(
+                                lo.offsetBy(x, y, z0)) >> 3;
+                            unsigned bits = (unsigned(leaf->getValueMask().template
+                                getWord<std::uint8_t>(row)) >> leafZ0) & rowBits;
+                            Label* dst = out + (x * s + y) * s + z0;
+                            const Label* src = values + 8 * row + leafZ0;
+                            for (; bits; bits &= bits - 1) {
+                                const int t = __builtin_ctz(bits);
+                                dst[t] = src[t];
+                                changed = changed || src[t] != coarse;
                             }
                         }
                     }
                 }
             }
         }
+        return !changed || std::all_of(out + 1, out + s * s * s,
+                                       [out](Label l) { return l == out[0]; });
     }
 
     /// A coarse face next to a subdivided voxel: its s x s fine faces, each on its own.
-    /// @a lowerFine, @a upperFine: the fine labels (fineVoxel()) of a subdivided side, else null.
-    void splitFace(const Coord& local, int a, Label lower, const Label* lowerFine,
-                   Label upper, const Label* upperFine)
+    void splitFace(const Coord& local, int a, const FineVoxel& lower, const FineVoxel& upper)
     {
+        const Coord corner(mS * local.x(), mS * local.y(), mS * local.z());
+        if (!lower.labels && !upper.labels) {
+            // Both sides uniform: one pair over the whole grid (what fineFaceGrid() would
+            // make of it).
+            if (lower.label != upper.label) {
+                rectangle(corner, a, 0, 0, mS, mS, packPair(lower.label, upper.label));
+            }
+            return;
+        }
         const int b = (a + 1) % 3, c = (a + 2) % 3;
         const int s = mS;
         const int stride[3] = {s * s, s, 1};
         const int lowerPlane = (s - 1) * stride[a]; // the lower voxel's fine voxels at the face
-        bool any = false;
+        auto lowerAt = [&](int idx) { return lower.labels ? lower.labels[lowerPlane + idx]
+                                                          : lower.label; };
+        auto upperAt = [&](int idx) { return upper.labels ? upper.labels[idx] : upper.label; };
+        if (!anyFace(stride[b], stride[c], lowerAt, upperAt)) return;
         for (int jb = 0; jb < s; ++jb) {
             for (int jc = 0; jc < s; ++jc) {
                 const int idx = jb * stride[b] + jc * stride[c];
-                const std::uint64_t pair = packPair(lowerFine ? lowerFine[lowerPlane + idx] : lower,
-                                                    upperFine ? upperFine[idx] : upper);
-                mFacePairs[jb * s + jc] = pair;
-                any = any || !isDegenerate(pair);
+                mFacePairs[jb * s + jc] = packPair(lowerAt(idx), upperAt(idx));
             }
         }
-        if (any) fineFaceGrid(Coord(s * local.x(), s * local.y(), s * local.z()), a);
+        fineFaceGrid(corner, a);
+    }
+
+    /// Whether the fine labels lowerAt(idx) and upperAt(idx) differ anywhere on an s x s grid
+    /// of indices idx = jb * strideB + jc * strideC: most grids hold no face, and this is
+    /// cheaper to learn than their label pairs.
+    template<typename LowerAt, typename UpperAt>
+    bool anyFace(int strideB, int strideC, const LowerAt& lowerAt, const UpperAt& upperAt) const
+    {
+        for (int jb = 0; jb < mS; ++jb) {
+            for (int jc = 0; jc < mS; ++jc) {
+                const int idx = jb * strideB + jc * strideC;
+                if (lowerAt(idx) != upperAt(idx)) return true;
+            }
+        }
+        return false;
     }
 
     /// Emits the s x s fine faces at local fine point @a corner with normal @a a, whose label
@@ -446,29 +518,27 @@ private:
         fan(base + LocalKey(h * ub + w * uc), base, pieces, step);
     }
 
-    /// Fine faces inside the subdivided voxel at @a local labelled @a coarse, between its own
-    /// fine voxels @a fine (see fineVoxel()).
-    void interiorFaces(const Coord& local, const Label* fine, Label coarse)
+    /// Fine faces inside a subdivided voxel at @a local between its own fine labels @a fine
+    /// (see fineVoxel()).
+    void interiorFaces(const Coord& local, const Label* fine)
     {
         const int s = mS;
-        if (std::all_of(fine, fine + s * s * s, [coarse](Label l) { return l == coarse; })) {
-            return;
-        }
         const int stride[3] = {s * s, s, 1};
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;
             // Planes t = 1 .. s-1 inside the voxel; t = 0 is the voxel's face: splitFace().
             for (int t = 1; t < s; ++t) {
-                bool any = false;
+                const Label* upper = fine + t * stride[a];
+                const Label* lower = upper - stride[a];
+                auto lowerAt = [lower](int idx) { return lower[idx]; };
+                auto upperAt = [upper](int idx) { return upper[idx]; };
+                if (!anyFace(stride[b], stride[c], lowerAt, upperAt)) continue;
                 for (int jb = 0; jb < s; ++jb) {
                     for (int jc = 0; jc < s; ++jc) {
-                        const int idx = t * stride[a] + jb * stride[b] + jc * stride[c];
-                        const std::uint64_t pair = packPair(fine[idx - stride[a]], fine[idx]);
-                        mFacePairs[jb * s + jc] = pair;
-                        any |= !isDegenerate(pair);
+                        const int idx = jb * stride[b] + jc * stride[c];
+                        mFacePairs[jb * s + jc] = packPair(lower[idx], upper[idx]);
                     }
                 }
-                if (!any) continue; // no face in this plane
                 Coord corner(s * local.x(), s * local.y(), s * local.z());
                 corner[a] += t;
                 fineFaceGrid(corner, a);
@@ -480,6 +550,8 @@ private:
     openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> mFine;
     /// Per window voxel: index of its fine labels in mFineStore, or -1 (not read yet).
     int mFineSlot[LabelWindow::DIM * LabelWindow::DIM * LabelWindow::DIM];
+    /// Per window voxel whose mFineSlot is set: whether its fine labels are all equal.
+    bool mFineUniform[LabelWindow::DIM * LabelWindow::DIM * LabelWindow::DIM];
     std::vector<int> mFineFlats; ///< the window voxels whose mFineSlot is set
     /// Buffers of s^3 fine labels; they never move, so fineVoxel()'s pointers stay valid.
     std::vector<std::unique_ptr<Label[]>> mFineStore;
@@ -489,9 +561,10 @@ private:
     /// The block's keys, corners and patch indices, grown here (reused from block to block)
     /// and copied to its BlockMesh at the end.
     std::vector<LocalKey> mKeys;
-    std::vector<std::uint32_t> mCorners, mPatchOf;
+    std::vector<std::uint32_t> mCorners; ///< [0, mCornerCount) are used
+    std::size_t mCornerCount = 0;
+    std::vector<PatchRun> mRuns;
     BlockMesh* mOut = nullptr;
-    std::uint32_t mLastPatch = 0;
     bool mUp = true;
 };
 
@@ -621,7 +694,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     }, 4);
     interrupt.throwIfStopped("extraction");
     std::size_t triangleTotal = 0;
-    for (const BlockMesh& block : blocks) triangleTotal += block.patchOf.size();
+    for (const BlockMesh& block : blocks) triangleTotal += block.corners.size() / 3;
     InterfaceMesh mesh;
     // Filling the output arrays (hundreds of MB on big volumes, most of it page faults) is
     // serial: it runs beside the parallel loops (the group is destroyed before the mesh).
@@ -732,10 +805,14 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 }
             }
             std::vector<std::size_t> next = start[n];
-            for (std::size_t t = 0; t < block.patchOf.size(); ++t) {
-                const std::size_t at = next[block.patchOf[t]]++;
-                mesh.triangles[at] = openvdb::Vec3I(global[block.corners[3 * t]],
-                    global[block.corners[3 * t + 1]], global[block.corners[3 * t + 2]]);
+            const std::uint32_t* corner = block.corners.data();
+            for (const PatchRun& run : block.runs) {
+                openvdb::Vec3I* to = mesh.triangles.data() + next[run.patch];
+                next[run.patch] += run.count;
+                for (std::uint32_t t = 0; t < run.count; ++t, corner += 3) {
+                    to[t] = openvdb::Vec3I(global[corner[0]], global[corner[1]],
+                                           global[corner[2]]);
+                }
             }
             // Nothing reads this block's triangles and keys again: free them here, in
             // parallel, rather than all at once at the end.
