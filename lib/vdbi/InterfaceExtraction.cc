@@ -828,6 +828,15 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     // A key k of block X is at coarse index (2s X + k) / 2s; voxel centres sit at integer
     // indices in OpenVDB, so the cube of voxel c spans [c - 0.5, c + 0.5] there.
     const openvdb::math::Transform& xform = labels.coarse->transform();
+    // The usual maps (axis-aligned scale, and offset, as from image files) are applied
+    // through their own types, whose applyMap() is final: no virtual call per point.
+    const auto* scale = dynamic_cast<const openvdb::math::ScaleMap*>(xform.baseMap().get());
+    const auto* scaleTranslate =
+        dynamic_cast<const openvdb::math::ScaleTranslateMap*>(xform.baseMap().get());
+    auto toWorld = [&](const openvdb::Vec3d& index) {
+        return scale ? scale->applyMap(index)
+            : scaleTranslate ? scaleTranslate->applyMap(index) : xform.indexToWorld(index);
+    };
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
@@ -840,7 +849,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                     base[2] + keyComponent(block.owned[i], 2)};
                 const openvdb::Vec3d index(double(k[0]) / double(K) - 0.5,
                     double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5);
-                mesh.points[vertexOffset[n] + i] = xform.indexToWorld(index);
+                mesh.points[vertexOffset[n] + i] = toWorld(index);
                 if (options.pointKeys) mesh.pointKeys[vertexOffset[n] + i] = k;
             }
             blocks[n].owned = {};
