@@ -142,12 +142,21 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
             for (int k = 0; k < BLOCK_DIM; ++k) {
                 const Label* corner = data + LabelWindow::index(i, j, k);
                 Label l[8];
-                bool uniform = true;
+                unsigned firstMask = 0; // the corners labelled l[0]
                 for (int n = 0; n < 8; ++n) {
                     l[n] = corner[offsets[n]];
-                    uniform = uniform && l[n] == l[0];
+                    firstMask |= unsigned(l[n] == l[0]) << n;
                 }
-                if (uniform) continue;
+                if (firstMask == 0xFFu) continue;
+                if (!constrained && !table.rules[firstMask].critical) {
+                    // With two labels, a face of the block is diagonal for one when it is
+                    // for the other, and the table's rule for one mask covers both: the
+                    // point and its edges are not critical. Most points hold two labels.
+                    const Label second = l[__builtin_ctz(~firstMask)];
+                    bool two = true;
+                    for (int n = 0; n < 8; ++n) two = two && (l[n] == l[0] || l[n] == second);
+                    if (two) continue;
+                }
                 const openvdb::Coord v = o.offsetBy(i, j, k);
 
                 // Faces (v, axis) between voxels v - e_axis (bit 7 - 2^axis) and v (bit 7).
