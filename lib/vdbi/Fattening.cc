@@ -76,12 +76,15 @@ public:
                     const Coord last(std::min(hi.x(), x0 | MASK), std::min(hi.y(), y0 | MASK),
                                      std::min(hi.z(), z0 | MASK));
                     LeafT* leaf = mAcc.touchLeaf(first);
+                    Label* values = leaf->buffer().data();
+                    auto& active = leaf->getValueMask();
                     for (int x = first.x(); x <= last.x(); ++x) {
                         for (int y = first.y(); y <= last.y(); ++y) {
-                            for (int z = first.z(); z <= last.z(); ++z) {
-                                const openvdb::Index i = LeafT::coordToOffset(Coord(x, y, z));
-                                leaf->setValueOn(i, leaf->isValueOn(i)
-                                    ? mPriority->pick(leaf->getValue(i), label) : label);
+                            openvdb::Index i = LeafT::coordToOffset(Coord(x, y, first.z()));
+                            for (int z = first.z(); z <= last.z(); ++z, ++i) {
+                                values[i] = active.isOn(i) ? mPriority->pick(values[i], label)
+                                                           : label;
+                                active.setOn(i);
                             }
                         }
                     }
@@ -192,11 +195,36 @@ markTouchedVoxels(const std::vector<Element>& elements, openvdb::MaskTree& mask)
 void
 dropUnchanged(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, int s, bool threaded)
 {
+    using LeafT = openvdb::Int32Tree::LeafNodeType;
+    constexpr int DIM = int(LeafT::DIM);
     openvdb::tree::LeafManager<openvdb::Int32Tree> leaves(fine);
-    leaves.foreach([&](openvdb::Int32Tree::LeafNodeType& leaf, std::size_t) {
+    leaves.foreach([&](LeafT& leaf, std::size_t) {
+        // The coarse voxels under the leaf (at most 8 per axis), read once: per fine voxel a
+        // table lookup instead of a tree lookup.
+        const Coord first = coarseOf(leaf.origin(), s);
+        int cell[3][DIM], span[3];
+        for (int a = 0; a < 3; ++a) {
+            for (int t = 0; t < DIM; ++t) {
+                cell[a][t] = floorDiv(leaf.origin()[a] + t, s) - first[a];
+            }
+            span[a] = cell[a][DIM - 1] + 1;
+        }
         openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> acc(coarse);
-        for (auto it = leaf.beginValueOn(); it; ++it) {
-            if (*it == acc.getValue(coarseOf(it.getCoord(), s))) it.setValueOff();
+        Label under[DIM * DIM * DIM];
+        for (int x = 0; x < span[0]; ++x) {
+            for (int y = 0; y < span[1]; ++y) {
+                for (int z = 0; z < span[2]; ++z) {
+                    under[(x * span[1] + y) * span[2] + z] = acc.getValue(first.offsetBy(x, y, z));
+                }
+            }
+        }
+        auto& active = leaf.getValueMask();
+        const Label* values = leaf.buffer().data();
+        for (auto it = active.beginOn(); it; ++it) {
+            const Coord xyz = LeafT::offsetToLocalCoord(it.pos());
+            const Label c = under[(cell[0][xyz.x()] * span[1] + cell[1][xyz.y()]) * span[2]
+                                  + cell[2][xyz.z()]];
+            if (values[it.pos()] == c) active.setOff(it.pos());
         }
     }, threaded);
     openvdb::tools::pruneInactive(fine, threaded);
