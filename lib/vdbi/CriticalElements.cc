@@ -139,15 +139,21 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
             const int rows[4] = {LabelWindow::index(i, j, 0), LabelWindow::index(i + 1, j, 0),
                 LabelWindow::index(i, j + 1, 0), LabelWindow::index(i + 1, j + 1, 0)};
             if (w.isUniform(rows, 4) && !constrained) continue;
-            for (int k = 0; k < BLOCK_DIM; ++k) {
-                const Label* corner = data + LabelWindow::index(i, j, k);
-                Label l[8];
-                unsigned firstMask = 0; // the corners labelled l[0]
-                for (int n = 0; n < 8; ++n) {
-                    l[n] = corner[offsets[n]];
-                    firstMask |= unsigned(l[n] == l[0]) << n;
+            // Per point of the row, the corners labelled like corner 0: all eight points at
+            // once (the compiler vectorizes along k).
+            const Label* row = data + LabelWindow::index(i, j, 0);
+            unsigned firstMasks[BLOCK_DIM] = {};
+            for (int n = 0; n < 8; ++n) {
+                for (int k = 0; k < BLOCK_DIM; ++k) {
+                    firstMasks[k] |= unsigned(row[offsets[n] + k] == row[k]) << n;
                 }
+            }
+            for (int k = 0; k < BLOCK_DIM; ++k) {
+                const unsigned firstMask = firstMasks[k];
                 if (firstMask == 0xFFu) continue;
+                const Label* corner = row + k;
+                Label l[8];
+                for (int n = 0; n < 8; ++n) l[n] = corner[offsets[n]];
                 if (!constrained && !table.rules[firstMask].critical) {
                     // With two labels, a face of the block is diagonal for one when it is
                     // for the other, and the table's rule for one mask covers both: the
