@@ -174,7 +174,11 @@ public:
                 // The voxels (i, j, 0 .. 7) and their lower neighbours lie in these rows.
                 const int rows[3] = {LabelWindow::index(i + 1, j + 1, 0),
                     LabelWindow::index(i, j + 1, 0), LabelWindow::index(i + 1, j, 0)};
-                if (w.isUniform(rows, 3) && !(mask && mask->anyOn(rows, 3))) continue;
+                if (!mask || !mask->anyOnNear(i + 1, j + 1)) {
+                    coarseRow(w, i, j, owners);
+                    continue;
+                }
+                if (w.isUniform(rows, 3) && !mask->anyOn(rows, 3)) continue;
                 for (int k = 0; k < BLOCK_DIM; ++k) {
                     const Coord v = o.offsetBy(i, j, k);
                     if (clipped && !owners.isInside(v)) continue;
@@ -209,6 +213,29 @@ public:
     }
 
 private:
+    /// The faces owned by the voxels (i, j, 0 .. 7) of the block when no subdivided voxel
+    /// touches them: coarse faces, found for the whole row at once (the compiler
+    /// vectorizes the comparisons along z; most voxels of a row own no face).
+    void coarseRow(const LabelWindow& w, int i, int j, const openvdb::CoordBBox& owners)
+    {
+        const int first = LabelWindow::index(i + 1, j + 1, 1);
+        const Label* upper = w.data() + first;
+        unsigned faces[3] = {0, 0, 0}; // bit k: voxel k owns a face along the axis
+        for (int a = 0; a < 3; ++a) {
+            const Label* lower = upper - LabelWindow::STRIDE[a];
+            for (int k = 0; k < BLOCK_DIM; ++k) faces[a] |= unsigned(lower[k] != upper[k]) << k;
+        }
+        for (unsigned any = faces[0] | faces[1] | faces[2]; any != 0; any &= any - 1) {
+            const int k = __builtin_ctz(any);
+            if (!owners.empty() && !owners.isInside(w.origin().offsetBy(i, j, k))) continue;
+            for (int a = 0; a < 3; ++a) {
+                if (!((faces[a] >> k) & 1u)) continue;
+                coarseFace(Coord(i, j, k), a, upper[k - LabelWindow::STRIDE[a]], upper[k],
+                           first + k, nullptr);
+            }
+        }
+    }
+
     /// Makes (lower, upper) the patch of the next triangles; +axis points lower -> upper.
     void setPatch(Label lower, Label upper)
     {

@@ -111,6 +111,9 @@ MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
             }
         }
     }
+    for (int r = 0; r < DIM * DIM; ++r) {
+        mRowOn[r] = std::any_of(mOn + r * DIM, mOn + (r + 1) * DIM, [](bool on) { return on; });
+    }
     return true;
 }
 

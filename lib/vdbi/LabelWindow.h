@@ -78,6 +78,14 @@ public:
     bool load(Accessor& acc, const openvdb::Coord& origin);
     /// Whether the voxel at flat index @a flat (LabelWindow::index()) is subdivided.
     bool at(int flat) const { return mOn[flat]; }
+    /// Whether a voxel of the 3 x 3 rows (along z) around row (x, y) is subdivided: the
+    /// voxels that the faces of row (x, y) and their edges touch.
+    bool anyOnNear(int x, int y) const
+    {
+        const bool* r = mRowOn + (x - 1) * DIM + (y - 1);
+        return r[0] || r[1] || r[2] || r[DIM] || r[DIM + 1] || r[DIM + 2] || r[2 * DIM]
+            || r[2 * DIM + 1] || r[2 * DIM + 2];
+    }
     /// Whether a voxel of the rows of LabelWindow::isUniform() is subdivided.
     bool anyOn(const int* rows, int count) const
     {
@@ -93,6 +101,7 @@ private:
     const openvdb::MaskTree::LeafNodeType* mLeaves[27];
     bool mTiles[27];
     bool mOn[DIM * DIM * DIM];
+    bool mRowOn[DIM * DIM]; ///< per row (x, y): whether a voxel of it is on
 };
 
 } // namespace vdbi
