@@ -29,6 +29,9 @@ using LabelPair = std::array<Label, 2>;
 /// x << 16 | y << 8 | z, so the keys of one block compare and sort like their global keys.
 using LocalKey = std::uint32_t;
 
+/// The largest subdivision whose local keys fit in 8 bits per axis (8 * 2s <= 255).
+constexpr int MAX_SUBDIVISION = 15;
+
 /// What one key unit along x, y, z adds to a LocalKey.
 constexpr std::int32_t KEY_UNIT[3] = {1 << 16, 1 << 8, 1};
 
@@ -153,7 +156,6 @@ public:
         : mS(labels.subdivision)
         , mFine(labels.fine->tree())
         , mFacePairs(std::size_t(mS) * mS)
-        , mUsed(std::size_t(mS) * mS)
     {
         std::fill(std::begin(mFineSlot), std::end(mFineSlot), -1);
     }
@@ -499,24 +501,31 @@ private:
             rectangle(corner, a, 0, 0, s, s, pairs[0]);
             return;
         }
-        std::fill(mUsed.begin(), mUsed.end(), char(0));
-        auto isFree = [&](int x, int y, std::uint64_t pair) {
-            return !mUsed[x * s + y] && pairs[x * s + y] == pair;
+        // Rows as bit masks over jc (s <= 15): cells still to place, and per rectangle the
+        // cells of its pair, so that placed and empty cells cost nothing to skip.
+        std::uint32_t open[MAX_SUBDIVISION];
+        for (int jb = 0; jb < s; ++jb) {
+            open[jb] = 0;
+            for (int jc = 0; jc < s; ++jc) {
+                open[jb] |= std::uint32_t(!isDegenerate(pairs[jb * s + jc])) << jc;
+            }
+        }
+        auto openWith = [&](int jb, std::uint64_t pair) {
+            std::uint32_t same = 0;
+            for (int jc = 0; jc < s; ++jc) same |= std::uint32_t(pairs[jb * s + jc] == pair) << jc;
+            return same & open[jb];
         };
         for (int jb = 0; jb < s; ++jb) {
-            for (int jc = 0; jc < s; ++jc) {
+            while (open[jb] != 0) {
+                const int jc = __builtin_ctz(open[jb]);
                 const std::uint64_t pair = pairs[jb * s + jc];
-                if (mUsed[jb * s + jc] || isDegenerate(pair)) continue;
-                int w = 1;
-                while (jc + w < s && isFree(jb, jc + w, pair)) ++w;
+                // The run of open cells of this pair from jc on, then the rows below that
+                // have all of it open.
+                const int w = __builtin_ctz(~(openWith(jb, pair) >> jc));
+                const std::uint32_t run = ((std::uint32_t(1) << w) - 1) << jc;
                 int h = 1;
-                for (bool grow = true; grow && jb + h < s; ) {
-                    for (int y = jc; y < jc + w && grow; ++y) grow = isFree(jb + h, y, pair);
-                    if (grow) ++h;
-                }
-                for (int x = jb; x < jb + h; ++x) {
-                    std::fill_n(mUsed.begin() + x * s + jc, w, char(1));
-                }
+                while (jb + h < s && (openWith(jb + h, pair) & run) == run) ++h;
+                for (int x = jb; x < jb + h; ++x) open[x] &= ~run;
                 rectangle(corner, a, jb, jc, h, w, pair);
             }
         }
@@ -583,7 +592,6 @@ private:
     /// Buffers of s^3 fine labels; they never move, so fineVoxel()'s pointers stay valid.
     std::vector<std::unique_ptr<Label[]>> mFineStore;
     std::vector<std::uint64_t> mFacePairs;
-    std::vector<char> mUsed;
     KeyIndex mIndex;
     /// The block's keys, corners and patch indices, grown here (reused from block to block)
     /// and copied to its BlockMesh at the end.
@@ -662,7 +670,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     const int s = labels.subdivision;
     const int K = 2 * s;
     const int limit = BLOCK_DIM * K; // local key component of a block's max faces
-    if (s < 1 || limit > 0xFF) {
+    if (s < 1 || s > MAX_SUBDIVISION) {
         OPENVDB_THROW(openvdb::ValueError, "extraction: subdivision " << s
             << " out of range [1, 15]");
     }
