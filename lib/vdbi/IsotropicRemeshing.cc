@@ -118,15 +118,15 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
     const VertexHandle vr = mMesh.to_vertex_handle(
         mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(h)));
-    // No edge longer than the split limit, no inner edge between two locked vertices. A
-    // vertex with only locked neighbours stays: it is the centre of a fan filling a small
-    // boundary loop, without it two patches on the same loop would become the same
-    // triangle.
-    bool lockedRing = true;
+    // No edge longer than the split limit, no inner edge between two locked vertices that
+    // another patch may make too. A vertex with three locked neighbours only stays: it is
+    // the centre of a fan filling a boundary loop of three, without it two patches on the
+    // same loop would become the same triangle.
+    bool lockedRing = valence(v0) == 3;
     for (const VertexHandle w : mMesh.vv_range(v0)) {
         lockedRing = lockedRing && isLocked(w);
         if (w == v1 || w == vl || w == vr) continue;
-        if (isLocked(v1) && isLocked(w)) return false;
+        if (isLocked(v1) && isLocked(w) && !mPatch.mayJoinLocked(v1, w)) return false;
         if ((mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
     }
     if (lockedRing) return false;
@@ -218,7 +218,7 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
     const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
     const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
-    if (isLocked(c) && isLocked(d)) return false;
+    if (isLocked(c) && isLocked(d) && !mPatch.mayJoinLocked(c, d)) return false;
     if (valence(v0) - 1 < minValence(v0) || valence(v1) - 1 < minValence(v1)) return false;
     // Faces (v0, v1, c), (v1, v0, d) become (v0, d, c), (d, v1, c): neither may fold over.
     const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),

@@ -36,7 +36,8 @@ struct RemeshSettings
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 /// smallest angle), tangential relaxation, projection onto the reference surface.
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
-/// configuration, an inner edge between two locked vertices, or takes the surface more than
+/// configuration, an inner edge between two locked vertices that another patch may make too
+/// (RemeshingPatch::mayJoinLocked()), or takes the surface more than
 /// sqrt(deviation2) away from a point it had; a collapse turns no triangle over (against its
 /// own old normal), a flip or projection folds none against the reference normals; no
 /// relaxation move drags a vertex across a crease, and a vertex on a folded triangle relaxes
