@@ -26,6 +26,14 @@ distance2(const Point& p, const Point& a, const Point& b, const Point& c)
         .lengthSqr();
 }
 
+/// Cosine of the smallest angle of triangle (a, b, c).
+inline double
+smallestAngleCos(const Point& a, const Point& b, const Point& c)
+{
+    const Point ab = (b - a).normalized(), bc = (c - b).normalized(), ca = (a - c).normalized();
+    return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});
+}
+
 /// The rounds on one patch; holds only the state of a round (valences, old positions).
 class IsotropicRemesher
 {
@@ -37,6 +45,7 @@ public:
     void collapseShortEdges();
     void equalizeValences();
     void removeCaps();
+    void flipSharpTriangles();
     void tangentialRelaxation();
     void projectToReference();
 
@@ -275,11 +284,6 @@ IsotropicRemesher::removeCaps()
     // when that raises the smaller of the two triangles' smallest angles: a cap (one angle
     // near 180) becomes two better triangles. Valence stays the main criterion: only edges
     // the flip helps geometrically are touched.
-    auto largestCos = [](const Point& a, const Point& b, const Point& c) {
-        const Point ab = (b - a).normalized(), bc = (c - b).normalized(),
-                    ca = (a - c).normalized();
-        return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});   // of the smallest angle
-    };
     // Opposite angles C and D sum to more than 180 degrees iff sin(C + D) < 0; with
     // u, v the edges seen from a corner: sin ~ |u x v|, cos ~ u . v (same positive scale).
     auto sumExceedsPi = [](const Point& p0, const Point& p1, const Point& pc, const Point& pd) {
@@ -299,9 +303,41 @@ IsotropicRemesher::removeCaps()
         const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                     &pd = mMesh.point(d);
         if (!sumExceedsPi(p0, p1, pc, pd)) continue;
-        const double before = std::max(largestCos(p0, p1, pc), largestCos(p1, p0, pd));
-        const double after = std::max(largestCos(p0, pd, pc), largestCos(pd, p1, pc));
+        const double before = std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+        const double after = std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
         if (after < before && isFlipAllowed(e)) mMesh.flip(e);
+    }
+}
+
+
+void
+IsotropicRemesher::flipSharpTriangles()
+{
+    // After the last round: flip an edge of a triangle with an angle under 25 degrees when
+    // that raises the smaller of the two triangles' smallest angles, Delaunay or not (the
+    // rounds flip for valence first; here nothing is left to undo the shape gained).
+    const double sharpCos = std::cos(25.0 * M_PI / 180.0);
+    for (int pass = 0; pass < 3; ++pass) {
+        const std::size_t count = mMesh.n_edges();
+        bool changed = false;
+        for (std::size_t i = 0; i < count; ++i) {
+            const EdgeHandle e{int(i)};
+            if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
+            const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
+            const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
+            const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
+            const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
+            const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
+                        &pd = mMesh.point(d);
+            const double before = std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+            if (before <= sharpCos) continue;
+            const double after = std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
+            if (after < before && isFlipAllowed(e)) {
+                mMesh.flip(e);
+                changed = true;
+            }
+        }
+        if (!changed) break;
     }
 }
 
@@ -443,6 +479,7 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
         remesher.tangentialRelaxation();
         remesher.projectToReference();
     }
+    if (settings.iterations > 0) remesher.flipSharpTriangles();
     return true;
 }
 
