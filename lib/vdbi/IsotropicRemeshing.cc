@@ -303,8 +303,10 @@ IsotropicRemesher::removeCaps()
         const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                     &pd = mMesh.point(d);
         if (!sumExceedsPi(p0, p1, pc, pd)) continue;
-        const double before = std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
-        const double after = std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
+        const double before =
+            std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+        const double after =
+            std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
         if (after < before && isFlipAllowed(e)) mMesh.flip(e);
     }
 }
@@ -329,9 +331,11 @@ IsotropicRemesher::flipSharpTriangles()
             const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
             const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                         &pd = mMesh.point(d);
-            const double before = std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+            const double before =
+            std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
             if (before <= sharpCos) continue;
-            const double after = std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
+            const double after =
+            std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
             if (after < before && isFlipAllowed(e)) {
                 mMesh.flip(e);
                 changed = true;

@@ -34,7 +34,9 @@ struct RemeshSettings
 /// @brief Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than
 /// 4/5 (to the midpoint on flat ground, onto the sharper end on a crease), flip edges towards
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
-/// smallest angle), tangential relaxation, projection onto the reference surface.
+/// smallest angle), tangential relaxation, projection onto the reference surface. After the
+/// last round, edges of triangles under 25 degrees are flipped where that raises the smaller
+/// smallest angle.
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
 /// configuration, an inner edge between two locked vertices that another patch may make too
 /// (RemeshingPatch::mayJoinLocked()), or takes the surface more than

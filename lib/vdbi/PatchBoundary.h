@@ -75,9 +75,10 @@ public:
     /// curves tell: the first on both curves when both are inner samples, the first on the
     /// inner sample's curve when the other is a junction. Every patch with both vertices is
     /// on those curves, so at most one patch makes the edge, and it is no curve segment
-    /// (the segments at an inner sample are boundary edges of every patch on its curve). Never between
-    /// two junctions (a single-segment curve elsewhere may join them). Without such edges
-    /// a vertex next to a run of samples could not go, leaving short edges at the curves.
+    /// (the segments at an inner sample are boundary edges of every patch on its curve).
+    /// Never between two junctions (a single-segment curve elsewhere may join them). Without
+    /// such edges a vertex next to a run of samples could not go, leaving short edges at the
+    /// curves.
     bool mayJoinLocked(VertexHandle u, VertexHandle v) const;
     /// Not deleted, not locked, not on the boundary: a vertex remeshing may move or remove.
     bool isFree(VertexHandle v) const
