@@ -307,6 +307,7 @@ resampleFeatureCurves(FeatureCurves& curves, double targetLength, bool threaded)
     firstInner[0] = std::uint32_t(curves.junctions.size());
     for (std::size_t c = 0; c < nc; ++c) firstInner[c + 1] = firstInner[c] + segments[c] - 1;
     curves.samplePoints.resize(firstInner[nc]);
+    curves.sampleCurves.assign(firstInner[nc], FeatureCurves::NO_CURVE);
 
     forEachIndex(nc, threaded, [&](std::size_t c) {
         FeatureCurve& curve = curves.curves[c];
@@ -322,6 +323,7 @@ resampleFeatureCurves(FeatureCurves& curves, double targetLength, bool threaded)
         for (std::uint32_t k = 1; k < n; ++k) {
             const double t = length * double(k) / double(n);
             curve.samples[k] = firstInner[c] + k - 1;
+            curves.sampleCurves[curve.samples[k]] = std::uint32_t(c);
             curve.sampleArcLength[k] = t;
             curves.samplePoints[curve.samples[k]] = pointAt(curve, t, segment);
         }

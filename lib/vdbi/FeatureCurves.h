@@ -61,6 +61,10 @@ struct FeatureCurves
     /// Position of every sample: the junctions at their extracted positions, then the inner
     /// samples on the smoothed curves. Empty until resampleFeatureCurves().
     std::vector<openvdb::Vec3d> samplePoints;
+    /// Curve of every sample: the index into @c curves of an inner sample's curve, NO_CURVE
+    /// for a junction. Empty until resampleFeatureCurves().
+    std::vector<std::uint32_t> sampleCurves;
+    static constexpr std::uint32_t NO_CURVE = ~std::uint32_t(0);
 
     static std::uint64_t edgeKey(std::uint32_t u, std::uint32_t v)
     {
@@ -93,7 +97,7 @@ void smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int i
 /// 3 for a closed curve and at least 2 when another curve joins the same two junctions (so
 /// no two curves share a segment, no patch boundary is a 2-gon, and a single-segment curve
 /// never coincides with an extracted edge of another curve). Fills
-/// FeatureCurve::samples, sampleArcLength and FeatureCurves::samplePoints.
+/// FeatureCurve::samples, sampleArcLength and FeatureCurves::samplePoints, sampleCurves.
 /// @pre smoothFeatureCurves() ran
 void resampleFeatureCurves(FeatureCurves& curves, double targetLength, bool threaded = true);
 

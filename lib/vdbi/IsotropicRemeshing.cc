@@ -26,6 +26,14 @@ distance2(const Point& p, const Point& a, const Point& b, const Point& c)
         .lengthSqr();
 }
 
+/// Cosine of the smallest angle of triangle (a, b, c).
+inline double
+smallestAngleCos(const Point& a, const Point& b, const Point& c)
+{
+    const Point ab = (b - a).normalized(), bc = (c - b).normalized(), ca = (a - c).normalized();
+    return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});
+}
+
 /// The rounds on one patch; holds only the state of a round (valences, old positions).
 class IsotropicRemesher
 {
@@ -37,6 +45,7 @@ public:
     void collapseShortEdges();
     void equalizeValences();
     void removeCaps();
+    void flipSharpTriangles();
     void tangentialRelaxation();
     void projectToReference();
 
@@ -118,15 +127,15 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
     const VertexHandle vr = mMesh.to_vertex_handle(
         mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(h)));
-    // No edge longer than the split limit, no inner edge between two locked vertices. A
-    // vertex with only locked neighbours stays: it is the centre of a fan filling a small
-    // boundary loop, without it two patches on the same loop would become the same
-    // triangle.
-    bool lockedRing = true;
+    // No edge longer than the split limit, no inner edge between two locked vertices that
+    // another patch may make too. A vertex with three locked neighbours only stays: it is
+    // the centre of a fan filling a boundary loop of three, without it two patches on the
+    // same loop would become the same triangle.
+    bool lockedRing = valence(v0) == 3;
     for (const VertexHandle w : mMesh.vv_range(v0)) {
         lockedRing = lockedRing && isLocked(w);
         if (w == v1 || w == vl || w == vr) continue;
-        if (isLocked(v1) && isLocked(w)) return false;
+        if (isLocked(v1) && isLocked(w) && !mPatch.mayJoinLocked(v1, w)) return false;
         if ((mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
     }
     if (lockedRing) return false;
@@ -218,7 +227,7 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
     const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
     const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
-    if (isLocked(c) && isLocked(d)) return false;
+    if (isLocked(c) && isLocked(d) && !mPatch.mayJoinLocked(c, d)) return false;
     if (valence(v0) - 1 < minValence(v0) || valence(v1) - 1 < minValence(v1)) return false;
     // Faces (v0, v1, c), (v1, v0, d) become (v0, d, c), (d, v1, c): neither may fold over.
     const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
@@ -275,11 +284,6 @@ IsotropicRemesher::removeCaps()
     // when that raises the smaller of the two triangles' smallest angles: a cap (one angle
     // near 180) becomes two better triangles. Valence stays the main criterion: only edges
     // the flip helps geometrically are touched.
-    auto largestCos = [](const Point& a, const Point& b, const Point& c) {
-        const Point ab = (b - a).normalized(), bc = (c - b).normalized(),
-                    ca = (a - c).normalized();
-        return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});   // of the smallest angle
-    };
     // Opposite angles C and D sum to more than 180 degrees iff sin(C + D) < 0; with
     // u, v the edges seen from a corner: sin ~ |u x v|, cos ~ u . v (same positive scale).
     auto sumExceedsPi = [](const Point& p0, const Point& p1, const Point& pc, const Point& pd) {
@@ -299,9 +303,45 @@ IsotropicRemesher::removeCaps()
         const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                     &pd = mMesh.point(d);
         if (!sumExceedsPi(p0, p1, pc, pd)) continue;
-        const double before = std::max(largestCos(p0, p1, pc), largestCos(p1, p0, pd));
-        const double after = std::max(largestCos(p0, pd, pc), largestCos(pd, p1, pc));
+        const double before =
+            std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+        const double after =
+            std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
         if (after < before && isFlipAllowed(e)) mMesh.flip(e);
+    }
+}
+
+
+void
+IsotropicRemesher::flipSharpTriangles()
+{
+    // After the last round: flip an edge of a triangle with an angle under 25 degrees when
+    // that raises the smaller of the two triangles' smallest angles, Delaunay or not (the
+    // rounds flip for valence first; here nothing is left to undo the shape gained).
+    const double sharpCos = std::cos(25.0 * M_PI / 180.0);
+    for (int pass = 0; pass < 3; ++pass) {
+        const std::size_t count = mMesh.n_edges();
+        bool changed = false;
+        for (std::size_t i = 0; i < count; ++i) {
+            const EdgeHandle e{int(i)};
+            if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
+            const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
+            const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
+            const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
+            const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
+            const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
+                        &pd = mMesh.point(d);
+            const double before =
+            std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+            if (before <= sharpCos) continue;
+            const double after =
+            std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
+            if (after < before && isFlipAllowed(e)) {
+                mMesh.flip(e);
+                changed = true;
+            }
+        }
+        if (!changed) break;
     }
 }
 
@@ -443,6 +483,7 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
         remesher.tangentialRelaxation();
         remesher.projectToReference();
     }
+    if (settings.iterations > 0) remesher.flipSharpTriangles();
     return true;
 }
 

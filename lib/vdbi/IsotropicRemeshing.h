@@ -34,9 +34,12 @@ struct RemeshSettings
 /// @brief Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than
 /// 4/5 (to the midpoint on flat ground, onto the sharper end on a crease), flip edges towards
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
-/// smallest angle), tangential relaxation, projection onto the reference surface.
+/// smallest angle), tangential relaxation, projection onto the reference surface. After the
+/// last round, edges of triangles under 25 degrees are flipped where that raises the smaller
+/// smallest angle.
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
-/// configuration, an inner edge between two locked vertices, or takes the surface more than
+/// configuration, an inner edge between two locked vertices that another patch may make too
+/// (RemeshingPatch::mayJoinLocked()), or takes the surface more than
 /// sqrt(deviation2) away from a point it had; a collapse turns no triangle over (against its
 /// own old normal), a flip or projection folds none against the reference normals; no
 /// relaxation move drags a vertex across a crease, and a vertex on a folded triangle relaxes

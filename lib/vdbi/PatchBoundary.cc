@@ -21,10 +21,30 @@ using FaceHandle = TriMesh::FaceHandle;
 } // namespace
 
 
-RemeshingPatch::RemeshingPatch(const InterfacePatch& patch, const PatchReference& reference,
-                               const FeatureCurves& curves)
-    : mPatch(patch), mReference(reference), mCurves(curves)
+RemeshingPatch::RemeshingPatch(const InterfacePatch& patch, std::uint32_t patchIndex,
+                               const PatchReference& reference, const FeatureCurves& curves)
+    : mPatch(patch), mReference(reference), mCurves(curves), mPatchIndex(patchIndex)
 {
+}
+
+
+bool
+RemeshingPatch::mayJoinLocked(VertexHandle u, VertexHandle v) const
+{
+    const std::uint32_t cu = mCurves.sampleCurves[std::size_t(mMesh.property(mSample, u))];
+    const std::uint32_t cv = mCurves.sampleCurves[std::size_t(mMesh.property(mSample, v))];
+    if (cu == FeatureCurves::NO_CURVE && cv == FeatureCurves::NO_CURVE) return false;
+    // The first patch on both curves, or on the one curve when the other end is a junction.
+    const std::vector<std::uint32_t>& pu =
+        mCurves.curves[cu != FeatureCurves::NO_CURVE ? cu : cv].patches;
+    const std::vector<std::uint32_t>& pv =
+        mCurves.curves[cv != FeatureCurves::NO_CURVE ? cv : cu].patches;
+    for (auto i = pu.begin(), j = pv.begin(); i != pu.end() && j != pv.end();) {
+        if (*i == *j) return *i == mPatchIndex;
+        if (*i < *j) ++i;
+        else ++j;
+    }
+    return false;
 }
 
 
@@ -228,9 +248,8 @@ RemeshingPatch::hasExpectedBoundary() const
     for (const EdgeHandle e : mMesh.edges()) {
         if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
         const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
-        if (isLocked(mMesh.from_vertex_handle(h)) && isLocked(mMesh.to_vertex_handle(h))) {
-            return false;
-        }
+        const VertexHandle u = mMesh.from_vertex_handle(h), v = mMesh.to_vertex_handle(h);
+        if (isLocked(u) && isLocked(v) && !mayJoinLocked(u, v)) return false;
     }
     return true;
 }

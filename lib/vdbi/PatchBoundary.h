@@ -42,20 +42,23 @@ public:
     using EdgeHandle = TriMesh::EdgeHandle;
     using FaceHandle = TriMesh::FaceHandle;
 
-    /// @param patch  the patch's entry in @a mesh, for messages
-    RemeshingPatch(const InterfacePatch& patch, const PatchReference& reference,
-                   const FeatureCurves& curves);
+    /// @param patch       the patch's entry in the mesh, for messages
+    /// @param patchIndex  its index in the mesh (the owner of some inner edges, see
+    ///                    mayJoinLocked())
+    RemeshingPatch(const InterfacePatch& patch, std::uint32_t patchIndex,
+                   const PatchReference& reference, const FeatureCurves& curves);
 
     /// @brief Builds the mesh on the reference surface and replaces every boundary curve by
     /// its samples: a strip of triangles zips the extracted boundary to the sample polyline
     /// (a fan around a new inner vertex when the curve has a single segment). Afterwards no
     /// inner edge joins two locked vertices (it could coincide with a curve segment or with
-    /// an inner edge of another patch): such edges are split.
+    /// an inner edge of another patch): such edges are split. Remeshing may make such an
+    /// edge again where mayJoinLocked() allows it.
     /// @throw vdbi::TopologyError if the patch does not fit its feature curves (a bug)
     void attachCurveSamples();
 
-    /// Is the boundary exactly the curve samples' segments, with no inner edge between two
-    /// locked vertices?
+    /// Is the boundary exactly the curve samples' segments, with every inner edge between two
+    /// locked vertices one that mayJoinLocked() allows?
     bool hasExpectedBoundary() const;
     /// The live triangles, vertices numbered as PatchResult says.
     PatchResult exportMesh() const;
@@ -67,6 +70,16 @@ public:
     const ReferenceSurface& reference() const { return *mReference.surface; }
 
     bool isLocked(VertexHandle v) const { return mMesh.property(mSample, v) >= 0; }
+    /// @brief May an inner edge of this patch join locked vertices @a u and @a v?
+    /// @details Only if this patch is the first that has both vertices as far as their
+    /// curves tell: the first on both curves when both are inner samples, the first on the
+    /// inner sample's curve when the other is a junction. Every patch with both vertices is
+    /// on those curves, so at most one patch makes the edge, and it is no curve segment
+    /// (the segments at an inner sample are boundary edges of every patch on its curve).
+    /// Never between two junctions (a single-segment curve elsewhere may join them). Without
+    /// such edges a vertex next to a run of samples could not go, leaving short edges at the
+    /// curves.
+    bool mayJoinLocked(VertexHandle u, VertexHandle v) const;
     /// Not deleted, not locked, not on the boundary: a vertex remeshing may move or remove.
     bool isFree(VertexHandle v) const
     {
@@ -108,6 +121,7 @@ private:
     const InterfacePatch& mPatch;
     const PatchReference& mReference;
     const FeatureCurves& mCurves;
+    std::uint32_t mPatchIndex;
 
     TriMesh mMesh;
     OpenMesh::VPropHandleT<std::int64_t> mSample;

@@ -152,7 +152,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     std::vector<PatchResult> results(patchCount);
     forEachPatch(raw, options.threaded, [&](std::size_t p) {
         if (interrupt.poll()) return;
-        RemeshingPatch patch(raw.patches[p], references[p], curves);
+        RemeshingPatch patch(raw.patches[p], std::uint32_t(p), references[p], curves);
         patch.attachCurveSamples();
         // Fallback: the extracted triangles fitted to the samples, should a round go wrong.
         PatchResult fitted = patch.exportMesh();

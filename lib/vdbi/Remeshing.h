@@ -56,10 +56,11 @@ struct RemeshStatistics
 ///    valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 ///    smallest angle), tangential relaxation, projection onto the reference surface. No
 ///    operation creates a non-manifold configuration, a folded triangle, an interior edge
-///    between two boundary vertices, or takes the surface more than 0.4 voxel away from a
+///    between two boundary vertices that another patch may make too (only the first patch
+///    on the curves of both may), or takes the surface more than 0.4 voxel away from a
 ///    point it had; no relaxation move drags a vertex across a crease. So a patch never
-///    loses its topology (every label keeps its Euler characteristic) and a small patch
-///    keeps a fan around an inner vertex.
+///    loses its topology (every label keeps its Euler characteristic) and a patch on a
+///    boundary loop of three samples keeps a fan around an inner vertex.
 /// 5. Where triangles of two patches sharing a label cross near their common curve (each
 ///    patch was remeshed without seeing the other), separatePatches() moves their inner
 ///    vertices apart along the normals, at most 0.4 voxel.
