@@ -19,8 +19,7 @@ namespace {
 struct ProbeResult
 {
     std::string tunables;
-    long hugeKb = -1;       ///< of 64 MiB in one block
-    long threadHugeKb = -1; ///< of 64 MiB in 16 KiB blocks from a second thread
+    long hugeKb = -1;
 };
 
 /// Runs the probe with GLIBC_TUNABLES set to @a tunables (unset if empty).
@@ -39,9 +38,6 @@ runProbe(const std::string& tunables)
         if (!text.empty() && text.back() == '\n') text.pop_back();
         if (text.rfind("tunables=", 0) == 0) result.tunables = text.substr(9);
         if (text.rfind("huge_kb=", 0) == 0) result.hugeKb = std::stol(text.substr(8));
-        if (text.rfind("thread_huge_kb=", 0) == 0) {
-            result.threadHugeKb = std::stol(text.substr(15));
-        }
     }
     EXPECT_EQ(pclose(pipe), 0) << command;
     return result;
@@ -81,23 +77,10 @@ protected:
 TEST_F(TestHugePages, testRestartGivesTheHeapHugePages)
 {
     const ProbeResult r = runProbe("");
-    EXPECT_EQ(r.tunables, "glibc.malloc.hugetlb=1:glibc.malloc.arena_max=1");
+    EXPECT_EQ(r.tunables, "glibc.malloc.hugetlb=1");
     // 64 MiB touched: at least one 2 MiB page, where the kernel had one to give (it usually
     // backs nearly all of it).
     EXPECT_GE(r.hugeKb, 2048);
-    // The same for small blocks from another thread, which share the main heap.
-    EXPECT_GE(r.threadHugeKb, 2048);
-}
-
-TEST_F(TestHugePages, testAThreadOfItsOwnArenaGetsNoHugePages)
-{
-    // Why the restart sets arena_max: with an arena per thread, the second thread's heap
-    // stays on 4 KiB pages (the user's arena_max is kept, so this is what a user gets who
-    // asks for it).
-    const ProbeResult r = runProbe("glibc.malloc.arena_max=8");
-    EXPECT_EQ(r.tunables, "glibc.malloc.arena_max=8:glibc.malloc.hugetlb=1");
-    EXPECT_GE(r.hugeKb, 2048);
-    EXPECT_LT(r.threadHugeKb, 2048);
 }
 
 TEST_F(TestHugePages, testUsersChoiceIsKept)
@@ -108,8 +91,7 @@ TEST_F(TestHugePages, testUsersChoiceIsKept)
     EXPECT_EQ(off.hugeKb, 0);
     // Other tunables stay, the huge page one is added after them.
     const ProbeResult other = runProbe("glibc.malloc.check=0");
-    EXPECT_EQ(other.tunables,
-              "glibc.malloc.check=0:glibc.malloc.hugetlb=1:glibc.malloc.arena_max=1");
+    EXPECT_EQ(other.tunables, "glibc.malloc.check=0:glibc.malloc.hugetlb=1");
     EXPECT_GE(other.hugeKb, 2048);
 }
 

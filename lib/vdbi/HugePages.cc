@@ -21,8 +21,7 @@ namespace vdbi {
 
 namespace {
 
-constexpr const char* HUGE_PAGES = "glibc.malloc.hugetlb";
-constexpr const char* ARENAS = "glibc.malloc.arena_max";
+constexpr const char* TUNABLE = "glibc.malloc.hugetlb";
 
 /// The kernel's transparent huge page mode, the bracketed word of
 /// "always [madvise] never"; empty if unknown.
@@ -63,15 +62,11 @@ restartWithHugePages(char** argv)
 {
     const char* current = std::getenv("GLIBC_TUNABLES");
     const std::string tunables = current ? current : "";
-    if (tunables.find(HUGE_PAGES) != std::string::npos || runningOnValgrind()
+    if (tunables.find(TUNABLE) != std::string::npos || runningOnValgrind()
         || kernelHugePageMode() != "madvise" || !glibcHasHugePageTunable()) {
         return;
     }
-    std::string value = tunables;
-    for (const char* name : {HUGE_PAGES, ARENAS}) {
-        if (tunables.find(name) != std::string::npos) continue; // the user's choice
-        value += (value.empty() ? "" : ":") + std::string(name) + "=1";
-    }
+    const std::string value = (tunables.empty() ? "" : tunables + ":") + TUNABLE + "=1";
     if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
     execv("/proc/self/exe", argv);
     // Not restarted (no /proc, say): go on as we are, without the tunable in the environment

@@ -10,12 +10,6 @@
 /// only on request ("madvise", the common default), glibc >= 2.35 makes that request for its
 /// heap when the tunable glibc.malloc.hugetlb=1 is set, and tunables are read only when a
 /// process starts: hence a restart of the program with it set.
-/// That request covers the main heap only: glibc gives every further thread a heap of its
-/// own (an arena) that grows a few pages at a time and stays on 4 KiB pages, so on two
-/// threads the frog run took 3-5 times the faults of one thread. glibc.malloc.arena_max=1
-/// makes all threads allocate from the main heap. They share its lock, which costs little
-/// here: the pipeline allocates per leaf and per block (tens of thousands of times per run),
-/// not per voxel; small blocks go through glibc's per-thread caches anyway.
 
 #ifndef VDBI_HUGE_PAGES_HAS_BEEN_INCLUDED
 #define VDBI_HUGE_PAGES_HAS_BEEN_INCLUDED
@@ -23,9 +17,7 @@
 namespace vdbi {
 
 /// @brief Restarts the program (same process, same arguments) with glibc's heap on
-/// transparent huge pages and one arena (glibc.malloc.hugetlb=1, glibc.malloc.arena_max=1
-/// added to GLIBC_TUNABLES unless it names them), where that helps; otherwise returns and
-/// the program goes on.
+/// transparent huge pages, where that helps; otherwise returns and the program goes on.
 /// @details Call it first thing in main(): before the program blocks signals (the mask
 /// survives the restart) or writes to a buffered stream (what is still buffered is lost).
 /// Threads started by static initialisers do no harm: the restart ends them. It returns
