@@ -158,7 +158,8 @@ scanBlock(const LabelWindow& w, const RepairOptions& options, BlockResult& out)
                     // With two labels, a face of the block is diagonal for one when it is
                     // for the other, and the table's rule for one mask covers both: the
                     // point and its edges are not critical. Most points hold two labels.
-                    const Label second = l[__builtin_ctz(~firstMask)];
+                    const Label second =
+                        l[openvdb::util::FindLowestOn(openvdb::Index32(~firstMask))];
                     bool two = true;
                     for (int n = 0; n < 8; ++n) two = two && (l[n] == l[0] || l[n] == second);
                     if (two) continue;

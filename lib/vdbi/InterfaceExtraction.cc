@@ -228,7 +228,7 @@ private:
             for (int k = 0; k < BLOCK_DIM; ++k) faces[a] |= unsigned(lower[k] != upper[k]) << k;
         }
         for (unsigned any = faces[0] | faces[1] | faces[2]; any != 0; any &= any - 1) {
-            const int k = __builtin_ctz(any);
+            const int k = int(openvdb::util::FindLowestOn(any));
             if (!owners.empty() && !owners.isInside(w.origin().offsetBy(i, j, k))) continue;
             for (int a = 0; a < 3; ++a) {
                 if (!((faces[a] >> k) & 1u)) continue;
@@ -428,7 +428,7 @@ private:
                             Label* dst = out + (x * s + y) * s + z0;
                             const Label* src = values + 8 * row + leafZ0;
                             for (; bits; bits &= bits - 1) {
-                                const int t = __builtin_ctz(bits);
+                                const int t = int(openvdb::util::FindLowestOn(bits));
                                 dst[t] = src[t];
                                 changed = changed || src[t] != coarse;
                             }
@@ -517,11 +517,11 @@ private:
         };
         for (int jb = 0; jb < s; ++jb) {
             while (open[jb] != 0) {
-                const int jc = __builtin_ctz(open[jb]);
+                const int jc = int(openvdb::util::FindLowestOn(open[jb]));
                 const std::uint64_t pair = pairs[jb * s + jc];
                 // The run of open cells of this pair from jc on, then the rows below that
                 // have all of it open.
-                const int w = __builtin_ctz(~(openWith(jb, pair) >> jc));
+                const int w = int(openvdb::util::FindLowestOn(~(openWith(jb, pair) >> jc)));
                 const std::uint32_t run = ((std::uint32_t(1) << w) - 1) << jc;
                 int h = 1;
                 while (jb + h < s && (openWith(jb + h, pair) & run) == run) ++h;
