@@ -34,6 +34,31 @@ smallestAngleCos(const Point& a, const Point& b, const Point& c)
     return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});
 }
 
+/// The two triangles at an inner edge: the edge p0 -> p1 (halfedge 0), pc the corner
+/// opposite it on halfedge 0's side, pd on the other.
+struct EdgeDiamond
+{
+    Point p0, p1, pc, pd;
+
+    EdgeDiamond(const TriMesh& mesh, EdgeHandle e)
+    {
+        const HalfedgeHandle h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
+        p0 = mesh.point(mesh.from_vertex_handle(h0));
+        p1 = mesh.point(mesh.to_vertex_handle(h0));
+        pc = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h0)));
+        pd = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h1)));
+    }
+    /// Cosine of the smallest angle of the two triangles, as they are and after a flip.
+    double smallestCos() const
+    {
+        return std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+    }
+    double smallestCosFlipped() const
+    {
+        return std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
+    }
+};
+
 /// The rounds on one patch; holds only the state of a round (valences, old positions).
 class IsotropicRemesher
 {
@@ -93,7 +118,6 @@ private:
     std::vector<int> mValence;
 };
 
-
 void
 IsotropicRemesher::splitLongEdges()
 {
@@ -114,7 +138,6 @@ IsotropicRemesher::splitLongEdges()
         }
     }
 }
-
 
 bool
 IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position)
@@ -181,7 +204,6 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     return std::max(near0, near1) <= limit2;
 }
 
-
 void
 IsotropicRemesher::collapseShortEdges()
 {
@@ -218,7 +240,6 @@ IsotropicRemesher::collapseShortEdges()
     mValence.clear();
 }
 
-
 bool
 IsotropicRemesher::isFlipAllowed(EdgeHandle e)
 {
@@ -243,7 +264,6 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     const double newToOld = std::min(distance2(newMid, p0, p1, pc), distance2(newMid, p1, p0, pd));
     return std::max(oldToNew, newToOld) <= mSettings.deviation2;
 }
-
 
 void
 IsotropicRemesher::equalizeValences()
@@ -276,7 +296,6 @@ IsotropicRemesher::equalizeValences()
     mValence.clear();
 }
 
-
 void
 IsotropicRemesher::removeCaps()
 {
@@ -296,21 +315,11 @@ IsotropicRemesher::removeCaps()
     for (std::size_t i = 0; i < count; ++i) {
         const EdgeHandle e{int(i)};
         if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
-        const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
-        const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
-        const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
-        const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
-        const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
-                    &pd = mMesh.point(d);
-        if (!sumExceedsPi(p0, p1, pc, pd)) continue;
-        const double before =
-            std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
-        const double after =
-            std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
-        if (after < before && isFlipAllowed(e)) mMesh.flip(e);
+        const EdgeDiamond q(mMesh, e);
+        if (!sumExceedsPi(q.p0, q.p1, q.pc, q.pd)) continue;
+        if (q.smallestCosFlipped() < q.smallestCos() && isFlipAllowed(e)) mMesh.flip(e);
     }
 }
-
 
 void
 IsotropicRemesher::flipSharpTriangles()
@@ -325,18 +334,10 @@ IsotropicRemesher::flipSharpTriangles()
         for (std::size_t i = 0; i < count; ++i) {
             const EdgeHandle e{int(i)};
             if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
-            const HalfedgeHandle h0 = mMesh.halfedge_handle(e, 0), h1 = mMesh.halfedge_handle(e, 1);
-            const VertexHandle v0 = mMesh.from_vertex_handle(h0), v1 = mMesh.to_vertex_handle(h0);
-            const VertexHandle c = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h0));
-            const VertexHandle d = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h1));
-            const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
-                        &pd = mMesh.point(d);
-            const double before =
-            std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
+            const EdgeDiamond q(mMesh, e);
+            const double before = q.smallestCos();
             if (before <= sharpCos) continue;
-            const double after =
-            std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
-            if (after < before && isFlipAllowed(e)) {
+            if (q.smallestCosFlipped() < before && isFlipAllowed(e)) {
                 mMesh.flip(e);
                 changed = true;
             }
@@ -344,7 +345,6 @@ IsotropicRemesher::flipSharpTriangles()
         if (!changed) break;
     }
 }
-
 
 void
 IsotropicRemesher::tangentialRelaxation()
@@ -387,7 +387,6 @@ IsotropicRemesher::tangentialRelaxation()
     }
     for (const VertexHandle v : mMesh.vertices()) mMesh.set_point(v, moved[v.idx()]);
 }
-
 
 void
 IsotropicRemesher::projectToReference()
