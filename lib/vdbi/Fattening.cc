@@ -8,11 +8,12 @@
 #include <openvdb/tree/LeafManager.h>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <array>
+#include <utility>
+#include <vector>
 
 namespace vdbi {
 
@@ -53,129 +54,92 @@ neighbourhood(const Extent& e, int s, int k)
                      Coord(s * e.hi.x() + k - 1, s * e.hi.y() + k - 1, s * e.hi.z() + k - 1));
 }
 
-/// Keeps, per voxel, the label of highest priority written there. The choice is a total
-/// order, so the outcome is the same for any order of writes and any split among threads.
-class PriorityWriter
-{
-public:
-    PriorityWriter(openvdb::Int32Tree& tree, const LabelPriority& priority)
-        : mAcc(tree), mPriority(&priority) {}
+using LeafT = openvdb::Int32Tree::LeafNodeType;
 
-    /// Writes @a label into every voxel of @a box, leaf by leaf through the leaf buffers.
-    void write(const CoordBBox& box, Label label)
-    {
-        using LeafT = openvdb::Int32Tree::LeafNodeType;
-        constexpr int MASK = int(LeafT::DIM) - 1;
-        const Coord& lo = box.min();
-        const Coord& hi = box.max();
-        for (int x0 = lo.x(); x0 <= hi.x(); x0 = (x0 & ~MASK) + int(LeafT::DIM)) {
-            for (int y0 = lo.y(); y0 <= hi.y(); y0 = (y0 & ~MASK) + int(LeafT::DIM)) {
-                for (int z0 = lo.z(); z0 <= hi.z(); z0 = (z0 & ~MASK) + int(LeafT::DIM)) {
-                    // The part of the box inside the leaf that holds (x0, y0, z0).
-                    const Coord first(x0, y0, z0);
-                    const Coord last(std::min(hi.x(), x0 | MASK), std::min(hi.y(), y0 | MASK),
-                                     std::min(hi.z(), z0 | MASK));
-                    LeafT* leaf = mAcc.touchLeaf(first);
-                    Label* values = leaf->buffer().data();
-                    auto& active = leaf->getValueMask();
-                    for (int x = first.x(); x <= last.x(); ++x) {
-                        for (int y = first.y(); y <= last.y(); ++y) {
-                            openvdb::Index i = LeafT::coordToOffset(Coord(x, y, first.z()));
-                            for (int z = first.z(); z <= last.z(); ++z, ++i) {
-                                values[i] = active.isOn(i) ? mPriority->pick(values[i], label)
-                                                           : label;
-                                active.setOn(i);
-                            }
-                        }
-                    }
-                }
+/// Writes @a label into the voxels of @a box inside @a leaf. Among the labels one pass writes
+/// into a voxel (@a written: the voxels it wrote so far) the one of highest priority stays, a
+/// total order, so the outcome is the same for any order of writes; a pass replaces what
+/// earlier passes wrote.
+void
+writeByPriority(LeafT& leaf, LeafT::NodeMaskType& written, const CoordBBox& box, Label label,
+                const LabelPriority& priority)
+{
+    const CoordBBox part(Coord::maxComponent(box.min(), leaf.origin()),
+                         Coord::minComponent(box.max(), leaf.origin().offsetBy(LeafT::DIM - 1)));
+    Label* values = leaf.buffer().data();
+    auto& active = leaf.getValueMask();
+    for (int x = part.min().x(); x <= part.max().x(); ++x) {
+        for (int y = part.min().y(); y <= part.max().y(); ++y) {
+            openvdb::Index i = LeafT::coordToOffset(Coord(x, y, part.min().z()));
+            for (int z = part.min().z(); z <= part.max().z(); ++z, ++i) {
+                values[i] = written.isOn(i) ? priority.pick(values[i], label) : label;
+                written.setOn(i);
+                active.setOn(i);
             }
         }
     }
+}
 
-private:
-    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> mAcc;
-    const LabelPriority* mPriority;
-};
-
-/// Moves the leaves of @a from into @a into; where @a into has a leaf already, @a combine
-/// (old value, new value) gives each voxel that both hold. Leaves @a from empty. Only adding
-/// leaves changes the tree: that is serial, combining the overlapping leaves is not.
-template<typename Combine>
+/// Calls @a visit(origin) for the origin of every leaf that @a box overlaps.
+template<typename Visit>
 void
-mergeLeaves(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const Combine& combine,
-            bool threaded)
+forEachLeafOf(const CoordBBox& box, const Visit& visit)
 {
-    using LeafT = openvdb::Int32Tree::LeafNodeType;
-    std::vector<LeafT*> leaves;
-    from.stealNodes(leaves);
-    std::vector<std::pair<LeafT*, LeafT*>> overlaps; // (leaf of into, leaf of from)
-    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(into);
-    for (LeafT* leaf : leaves) {
-        if (LeafT* target = acc.probeLeaf(leaf->origin())) overlaps.emplace_back(target, leaf);
-        else acc.addLeaf(leaf);
-    }
-    auto merge = [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            LeafT& target = *overlaps[n].first;
-            const LeafT* leaf = overlaps[n].second;
-            Label* to = target.buffer().data();
-            const Label* values = leaf->buffer().data();
-            for (auto it = leaf->getValueMask().beginOn(); it; ++it) {
-                const openvdb::Index i = it.pos();
-                to[i] = target.isValueOn(i) ? combine(to[i], values[i]) : values[i];
-                target.getValueMask().setOn(i);
-            }
-            delete leaf;
+    constexpr int MASK = int(LeafT::DIM) - 1;
+    const Coord lo(box.min().x() & ~MASK, box.min().y() & ~MASK, box.min().z() & ~MASK);
+    for (int x = lo.x(); x <= box.max().x(); x += int(LeafT::DIM)) {
+        for (int y = lo.y(); y <= box.max().y(); y += int(LeafT::DIM)) {
+            for (int z = lo.z(); z <= box.max().z(); z += int(LeafT::DIM)) visit(Coord(x, y, z));
         }
-    };
-    const tbb::blocked_range<std::size_t> all(0, overlaps.size(), 16);
-    if (threaded) tbb::parallel_for(all, merge);
-    else merge(all);
+    }
 }
 
-/// Merges @a from into @a into by priority; leaves @a from empty.
-void
-mergeByPriority(openvdb::Int32Tree& into, openvdb::Int32Tree& from, const LabelPriority& p,
-                bool threaded)
-{
-    mergeLeaves(into, from, [&p](Label a, Label b) { return p.pick(a, b); }, threaded);
-}
-
-/// Relabels N_k of every element of one kind; returns the labels written (active voxels).
+/// Relabels N_k of every element of one kind in @a fine (active voxels: the labels written),
+/// over what earlier passes wrote there.
+/// @details The leaves the neighbourhoods touch are allocated first, in one thread; then
+/// every leaf takes the parts of its neighbourhoods in parallel, each leaf written by one
+/// thread: no tree per thread to merge, and the result does not depend on the split.
 template<typename Element>
-openvdb::Int32Tree::Ptr
-relabelPass(const std::vector<Element>& elements, int s, int k, const RepairOptions& options,
-            Label background, const char* stage)
+void
+relabelPass(openvdb::Int32Tree& fine, const std::vector<Element>& elements, int s, int k,
+            const RepairOptions& options, const char* stage)
 {
-    tbb::enumerable_thread_specific<openvdb::Int32Tree::Ptr> local(
-        [background] { return std::make_shared<openvdb::Int32Tree>(background); });
-    InterruptFlag interrupt(options.interrupter);
+    // (leaf origin, element) for every leaf a neighbourhood overlaps, by leaf.
+    std::vector<std::pair<Coord, std::uint32_t>> touches;
+    for (std::size_t n = 0; n < elements.size(); ++n) {
+        forEachLeafOf(neighbourhood(extentOf(elements[n]), s, k), [&](const Coord& origin) {
+            touches.emplace_back(origin, std::uint32_t(n));
+        });
+    }
+    if (options.threaded) tbb::parallel_sort(touches.begin(), touches.end());
+    else std::sort(touches.begin(), touches.end());
 
+    std::vector<LeafT*> leaves;
+    std::vector<std::size_t> firstTouch; // of each leaf in touches, and the end
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
+    for (std::size_t t = 0; t < touches.size(); ++t) {
+        if (t > 0 && touches[t].first == touches[t - 1].first) continue;
+        leaves.push_back(acc.touchLeaf(touches[t].first));
+        firstTouch.push_back(t);
+    }
+    firstTouch.push_back(touches.size());
+
+    InterruptFlag interrupt(options.interrupter);
     auto relabel = [&](const tbb::blocked_range<std::size_t>& range) {
         if (interrupt.poll()) return;
-        PriorityWriter writer(*local.local(), options.priority);
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            writer.write(neighbourhood(extentOf(elements[n]), s, k), elements[n].label);
+        for (std::size_t l = range.begin(); l < range.end(); ++l) {
+            LeafT::NodeMaskType written; // by this pass
+            for (std::size_t t = firstTouch[l]; t < firstTouch[l + 1]; ++t) {
+                const Element& e = elements[touches[t].second];
+                writeByPriority(*leaves[l], written, neighbourhood(extentOf(e), s, k), e.label,
+                                options.priority);
+            }
         }
     };
-    const tbb::blocked_range<std::size_t> all(0, elements.size(), 64);
+    const tbb::blocked_range<std::size_t> all(0, leaves.size(), 64);
     if (options.threaded) tbb::parallel_for(all, relabel);
     else relabel(all);
     interrupt.throwIfStopped(stage);
-
-    auto result = std::make_shared<openvdb::Int32Tree>(background);
-    for (auto& tree : local) {
-        mergeByPriority(*result, *tree, options.priority, options.threaded);
-    }
-    return result;
-}
-
-/// Later passes overwrite earlier ones; leaves @a from empty.
-void
-overwrite(openvdb::Int32Tree& into, openvdb::Int32Tree& from, bool threaded)
-{
-    mergeLeaves(into, from, [](Label, Label later) { return later; }, threaded);
 }
 
 /// Marks the coarse voxels whose closed cubes touch an element: [lo - 1, hi] per axis.
@@ -195,7 +159,6 @@ markTouchedVoxels(const std::vector<Element>& elements, openvdb::MaskTree& mask)
 void
 dropUnchanged(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, int s, bool threaded)
 {
-    using LeafT = openvdb::Int32Tree::LeafNodeType;
     constexpr int DIM = int(LeafT::DIM);
     openvdb::tree::LeafManager<openvdb::Int32Tree> leaves(fine);
     leaves.foreach([&](LeafT& leaf, std::size_t) {
@@ -251,16 +214,14 @@ fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
     result.subdivision = s;
 
     // Edges N1 then vertices N2; with constraints faces N1, edges N2, vertices N3.
-    openvdb::Int32Tree::Ptr fine;
+    auto fine = std::make_shared<openvdb::Int32Tree>(background);
     if (constrained) {
-        fine = relabelPass(elements.faces, s, 1, options, background, "fattening faces");
-        overwrite(*fine, *relabelPass(elements.edges, s, 2, options, background,
-            "fattening edges"), options.threaded);
+        relabelPass(*fine, elements.faces, s, 1, options, "fattening faces");
+        relabelPass(*fine, elements.edges, s, 2, options, "fattening edges");
     } else {
-        fine = relabelPass(elements.edges, s, 1, options, background, "fattening edges");
+        relabelPass(*fine, elements.edges, s, 1, options, "fattening edges");
     }
-    overwrite(*fine, *relabelPass(elements.vertices, s, constrained ? 3 : 2, options,
-        background, "fattening vertices"), options.threaded);
+    relabelPass(*fine, elements.vertices, s, constrained ? 3 : 2, options, "fattening vertices");
     dropUnchanged(*fine, grid->tree(), s, options.threaded);
 
     result.fine = openvdb::Int32Grid::create(fine);
