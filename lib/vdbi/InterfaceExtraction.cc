@@ -100,7 +100,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     const int limit = BLOCK_DIM * K; // local key component of a block's max faces
     if (s < 1 || s > MAX_SUBDIVISION) {
         OPENVDB_THROW(openvdb::ValueError, "extraction: subdivision " << s
-            << " out of range [1, 15]");
+            << " out of range [1, " << MAX_SUBDIVISION << "]");
     }
     // What moving a key by 8 * 2s along the axes of d subtracts: the offset from a block's
     // local keys to those of its neighbour at origin + 8d.
