@@ -32,7 +32,7 @@ namespace {
 
 /// A mesh of one patch per triangle group: @a groups[i] triangles go to patch (0, i + 1).
 vdbi::InterfaceMesh
-meshOf(std::vector<Vec3d> points, std::vector<Vec3I> triangles,
+meshOf(vdbi::PointArray points, vdbi::TriangleArray triangles,
        const std::vector<std::size_t>& groups)
 {
     vdbi::InterfaceMesh mesh;
@@ -52,7 +52,7 @@ meshOf(std::vector<Vec3d> points, std::vector<Vec3I> triangles,
 }
 
 bool
-intersect(const std::vector<Vec3d>& points, const Vec3I& s, const Vec3I& t)
+intersect(const vdbi::PointArray& points, const Vec3I& s, const Vec3I& t)
 {
     // The answer may not depend on the order of the triangles or of their corners.
     const bool result = vdbi_test::trianglesIntersect(points, s, t);
@@ -66,7 +66,7 @@ intersect(const std::vector<Vec3d>& points, const Vec3I& s, const Vec3I& t)
 
 TEST_F(TestMeshIntersections, testDisjointTriangles)
 {
-    const std::vector<Vec3d> p = {
+    const vdbi::PointArray p = {
         {0, 0, 0}, {2, 0, 0}, {0, 2, 0},           // s in z = 0
         {0.5, 0.5, -1}, {0.5, 0.5, 1}, {3, 3, 0},   // t pierces s at (0.5, 0.5, 0)
         {0.5, 0.5, 0.1}, {0.5, 0.5, 1},             // t' above s
@@ -78,13 +78,13 @@ TEST_F(TestMeshIntersections, testDisjointTriangles)
     EXPECT_TRUE(intersect(p, Vec3I(0, 2, 1), Vec3I(9, 10, 7)));
     EXPECT_TRUE(intersect(p, Vec3I(0, 1, 2), Vec3I(11, 12, 13)));
     // Coplanar and apart.
-    const std::vector<Vec3d> q = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, 0}, {3, 2, 0}, {2, 3, 0}};
+    const vdbi::PointArray q = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, 0}, {3, 2, 0}, {2, 3, 0}};
     EXPECT_FALSE(intersect(q, Vec3I(0, 1, 2), Vec3I(3, 4, 5)));
 }
 
 TEST_F(TestMeshIntersections, testSharedCorner)
 {
-    const std::vector<Vec3d> p = {
+    const vdbi::PointArray p = {
         {0, 0, 0}, {2, 0, 0}, {0, 2, 0},       // s in z = 0 at corner 0
         {1, 1, 0}, {1, 1, 1},                  // t: along the diagonal into s, and up
         {-1, 0, 0.5}, {0, -1, 0.5},            // t': away from s
@@ -95,13 +95,13 @@ TEST_F(TestMeshIntersections, testSharedCorner)
     EXPECT_TRUE(intersect(p, Vec3I(0, 1, 2), Vec3I(0, 7, 8)));
     EXPECT_FALSE(intersect(p, Vec3I(0, 1, 2), Vec3I(0, 9, 10)));
     // Piercing away from the shared corner: the opposite edge of t crosses s.
-    const std::vector<Vec3d> q = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.5, -1}, {0.5, 1, 1}};
+    const vdbi::PointArray q = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.5, -1}, {0.5, 1, 1}};
     EXPECT_TRUE(intersect(q, Vec3I(0, 1, 2), Vec3I(0, 3, 4)));
 }
 
 TEST_F(TestMeshIntersections, testSharedEdge)
 {
-    const std::vector<Vec3d> p = {
+    const vdbi::PointArray p = {
         {0, 0, 0}, {1, 0, 0},       // the edge
         {0.5, 1, 0},                // s
         {0.5, -1, 0},               // t on the other side: a flat pair
@@ -118,8 +118,8 @@ TEST_F(TestMeshIntersections, testSharedEdge)
 // then two patches, one crossing the other.
 TEST_F(TestMeshIntersections, testMeshes)
 {
-    std::vector<Vec3d> points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
-    const std::vector<Vec3I> fan = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
+    vdbi::PointArray points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    const vdbi::TriangleArray fan = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
     EXPECT_TRUE(vdbi_test::findSelfIntersections(meshOf(points, fan, {4}), 0.5).empty());
     points[2] = Vec3d(-0.5, -0.3, 0.0);   // (0, 1, 2) now lies on (0, 4, 1)
     const auto folded = vdbi_test::findSelfIntersections(meshOf(points, fan, {4}), 0.5);
@@ -128,9 +128,9 @@ TEST_F(TestMeshIntersections, testMeshes)
     EXPECT_TRUE(vdbi_test::findSelfIntersections(meshOf(points, {fan[0], fan[3]}, {2}), 0.5)
                     .empty());
 
-    const std::vector<Vec3d> two = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0},
+    const vdbi::PointArray two = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {4, 4, 0},
                                     {1, 1, -1}, {2, 1, 1}, {1, 2, 1}};
-    const std::vector<Vec3I> tris = {{0, 1, 2}, {1, 3, 2}, {4, 5, 6}};
+    const vdbi::TriangleArray tris = {{0, 1, 2}, {1, 3, 2}, {4, 5, 6}};
     const auto mesh = meshOf(two, tris, {2, 1});
     const auto found = vdbi_test::findSelfIntersections(mesh, 0.7);
     ASSERT_EQ(found.size(), 1u);
@@ -154,7 +154,7 @@ TEST_F(TestMeshIntersections, testRawExtraction)
 // Closeness of a square to itself moved by known amounts, in voxels of 1 x 1 x 2.
 TEST_F(TestMeshIntersections, testCloseness)
 {
-    const std::vector<Vec3I> tris = {{0, 1, 2}, {1, 3, 2}};
+    const vdbi::TriangleArray tris = {{0, 1, 2}, {1, 3, 2}};
     auto square = [&](double z) {
         return meshOf({{0, 0, z}, {4, 0, z}, {0, 4, z}, {4, 4, z}}, tris, {2});
     };

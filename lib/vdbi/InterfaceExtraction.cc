@@ -10,7 +10,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
@@ -61,16 +60,6 @@ forEachChunk(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body&
     const tbb::blocked_range<std::size_t> all(0, n, grain);
     if (threaded) tbb::parallel_for(all, run);
     else run(all);
-}
-
-/// Runs @a task beside the next parallel loop (in @a group, waited for by the caller), or now
-/// when not threaded: it fills the big output arrays, serial work that then overlaps.
-template<typename Task>
-void
-runBeside(tbb::task_group& group, bool threaded, const Task& task)
-{
-    if (threaded) group.run(task);
-    else task();
 }
 
 /// Whether @a k lies on one of the block's min faces, where the keys of the neighbours below
@@ -159,10 +148,9 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     std::size_t triangleTotal = 0;
     for (const BlockMesh& block : blocks) triangleTotal += block.corners.size() / 3;
     InterfaceMesh mesh;
-    // Filling the output arrays (hundreds of MB on big volumes, most of it page faults) is
-    // serial: it runs beside the parallel loops (the group is destroyed before the mesh).
-    tbb::task_group arrays;
-    runBeside(arrays, options.threaded, [&] { mesh.triangles.resize(triangleTotal); });
+    // Uninitialized (see PointArray): the pages are first touched by the parallel loops
+    // that fill them.
+    mesh.triangles.resize(triangleTotal);
 
     // 2. Every block numbers the keys on its min faces, its own and those of its neighbours
     //    at origin - 8d on their max faces, in key order after its inside ones, and tells
@@ -198,7 +186,6 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             }
         }
     }, 8);
-    arrays.wait();
     interrupt.throwIfStopped("extraction");
 
     std::vector<std::size_t> vertexOffset(blockCount + 1, 0);
@@ -242,10 +229,8 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
 
     // 4. Global indices of every block's keys (their owners' offsets plus their ranks), its
     //    triangles at their places; then the points it numbers.
-    runBeside(arrays, options.threaded, [&] {
-        mesh.points.resize(vertexOffset.back());
-        if (options.pointKeys) mesh.pointKeys.resize(vertexOffset.back());
-    });
+    mesh.points.resize(vertexOffset.back());
+    if (options.pointKeys) mesh.pointKeys.resize(vertexOffset.back());
     std::atomic<bool> lostKey{false};
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
@@ -284,7 +269,6 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             blocks[n].owned = std::move(owned);
         }
     }, 8);
-    arrays.wait();
     interrupt.throwIfStopped("extraction");
     if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
 

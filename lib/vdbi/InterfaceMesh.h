@@ -12,6 +12,9 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace vdbi {
@@ -20,6 +23,38 @@ namespace vdbi {
 /// grid point v is 2s*v, fine grid point p is 2p, the centre of a coarse face is its corner
 /// plus s along the two face axes. Equal keys are the same vertex, across patches and tiles.
 using VertexKey = std::array<std::int64_t, 3>;
+
+/// @brief std::allocator, except that resize(n) and vector(n) leave the new elements of a
+/// trivial type uninitialized (default- instead of value-initialized).
+/// @details The extraction sizes its output arrays (hundreds of MB on big volumes) and then
+/// fills them in parallel: without zeroing first, their pages are first touched by the
+/// threads that write them, not zeroed by one thread beforehand.
+template<typename T>
+struct DefaultInitAllocator : std::allocator<T>
+{
+    template<typename U>
+    struct rebind { using other = DefaultInitAllocator<U>; };
+
+    DefaultInitAllocator() = default;
+    template<typename U>
+    DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+
+    template<typename U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value)
+    {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template<typename U, typename... Args>
+    void construct(U* p, Args&&... args)
+    {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+/// Points of an InterfaceMesh: resize() leaves new points uninitialized.
+using PointArray = std::vector<openvdb::Vec3d, DefaultInitAllocator<openvdb::Vec3d>>;
+/// Triangles of an InterfaceMesh: resize() leaves new triangles uninitialized.
+using TriangleArray = std::vector<openvdb::Vec3I, DefaultInitAllocator<openvdb::Vec3I>>;
 
 /// The triangles [firstTriangle, firstTriangle + triangleCount) between labels a < b.
 struct InterfacePatch
@@ -35,8 +70,8 @@ struct InterfacePatch
 /// are contiguous. Points are shared between patches along common boundary curves.
 struct InterfaceMesh
 {
-    std::vector<openvdb::Vec3d> points;           ///< world space
-    std::vector<openvdb::Vec3I> triangles;        ///< indices into points
+    PointArray points;                            ///< world space
+    TriangleArray triangles;                      ///< indices into points
     std::vector<InterfacePatch> patches;          ///< sorted by (a, b)
     /// Exact key of every point; empty unless asked for (ExtractionOptions::pointKeys) and
     /// after remeshing moved points off the key grid.

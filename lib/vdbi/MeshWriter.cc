@@ -165,8 +165,7 @@ checkIndexRange(const std::string& path, std::size_t pointCount, std::size_t tri
 /// Binary little-endian PLY; @a labels (one pair per triangle) adds the face properties
 /// label0 and label1.
 void
-writePlyBody(std::ostream& os, const std::vector<openvdb::Vec3d>& points,
-             const std::vector<openvdb::Vec3I>& triangles,
+writePlyBody(std::ostream& os, const PointArray& points, const TriangleArray& triangles,
              const std::vector<std::array<Label, 2>>* labels, const std::string& comment)
 {
     std::ostringstream header;
@@ -354,8 +353,8 @@ writeVtpBody(std::ostream& os, const InterfaceMesh& mesh)
 /// corners and a zero attribute word. The normal is computed from the float corners so it
 /// agrees with what a reader sees.
 void
-writeStlBody(std::ostream& os, const std::vector<openvdb::Vec3d>& points,
-             const std::vector<openvdb::Vec3I>& triangles, const std::string& title)
+writeStlBody(std::ostream& os, const PointArray& points, const TriangleArray& triangles,
+             const std::string& title)
 {
     ByteSink sink(os);
     // The header must not start with "solid", which readers take for ASCII STL.
@@ -445,8 +444,8 @@ writePerLabelSurfaces(const InterfaceMesh& mesh, const std::string& dir, const s
     std::vector<std::uint32_t> remap(mesh.points.size(), UNUSED);
 
     for (const Label label : labels) {
-        std::vector<openvdb::Vec3d> points;
-        std::vector<openvdb::Vec3I> triangles;
+        PointArray points;
+        TriangleArray triangles;
         std::vector<std::uint32_t> used;
         for (const InterfacePatch& p : mesh.patches) {
             if (p.a != label && p.b != label) continue;

@@ -34,7 +34,7 @@ segmentCrossesTriangle(const Vec3d& p, const Vec3d& q, const Vec3d& a, const Vec
 /// Do triangles @a s and @a t cross other than in their shared corners? Triangles sharing
 /// an edge are left alone (they can only meet elsewhere when they lie in one plane).
 bool
-trianglesCross(const std::vector<Vec3d>& points, const openvdb::Vec3I& s,
+trianglesCross(const PointArray& points, const openvdb::Vec3I& s,
                const openvdb::Vec3I& t)
 {
     int shared = 0, si = -1, ti = -1;
@@ -174,7 +174,7 @@ separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
         const openvdb::Vec3I& t = mesh.triangles[f];
         return (mesh.points[t[1]] - mesh.points[t[0]]).cross(mesh.points[t[2]] - mesh.points[t[0]]);
     };
-    const std::vector<Vec3d> origin = mesh.points;
+    const PointArray origin = mesh.points;
     std::vector<char> active(triangleCount, 1);
     std::vector<int> push(pointCount, 0);
     std::vector<std::uint32_t> pushed;

@@ -164,7 +164,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
 
     InterfaceMesh out;
     const std::uint32_t sampleCount = std::uint32_t(curves.samplePoints.size());
-    out.points = std::move(curves.samplePoints);
+    out.points.assign(curves.samplePoints.begin(), curves.samplePoints.end());
     std::size_t triangleCount = 0;
     for (const PatchResult& r : results) triangleCount += r.triangles.size();
     out.triangles.reserve(triangleCount);

@@ -166,7 +166,7 @@ pointTriangleDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3
 } // namespace
 
 
-TriangleGrid::TriangleGrid(const std::vector<Vec3d>& points, const std::vector<Vec3I>& triangles,
+TriangleGrid::TriangleGrid(const vdbi::PointArray& points, const vdbi::TriangleArray& triangles,
                            std::size_t first, std::size_t count, double cellSize)
     : mPoints(points), mTriangles(triangles), mCellSize(cellSize), mFirst(first)
 {
@@ -234,7 +234,7 @@ TriangleGrid::distanceWithin(const Vec3d& q, double radius) const
 
 
 bool
-trianglesIntersect(const std::vector<Vec3d>& points, const Vec3I& s, const Vec3I& t)
+trianglesIntersect(const vdbi::PointArray& points, const Vec3I& s, const Vec3I& t)
 {
     int shared = 0, si = -1, ti = -1;   // the last common corner's positions
     for (int i = 0; i < 3; ++i) {
@@ -321,14 +321,14 @@ Closeness
 measureCloseness(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
                  const Vec3d& voxelSize, double radius)
 {
-    auto scaled = [&](const std::vector<Vec3d>& points) {
-        std::vector<Vec3d> result(points.size());
+    auto scaled = [&](const vdbi::PointArray& points) {
+        vdbi::PointArray result(points.size());
         for (std::size_t i = 0; i < points.size(); ++i) {
             for (int k = 0; k < 3; ++k) result[i][k] = points[i][k] / voxelSize[k];
         }
         return result;
     };
-    const std::vector<Vec3d> rawPoints = scaled(raw.points), outPoints = scaled(out.points);
+    const vdbi::PointArray rawPoints = scaled(raw.points), outPoints = scaled(out.points);
     Closeness result;
     std::vector<std::uint32_t> vertices;
     for (std::size_t p = 0; p < raw.patches.size(); ++p) {

@@ -25,8 +25,8 @@ namespace vdbi_test {
 class TriangleGrid
 {
 public:
-    TriangleGrid(const std::vector<openvdb::Vec3d>& points,
-                 const std::vector<openvdb::Vec3I>& triangles, std::size_t first,
+    TriangleGrid(const vdbi::PointArray& points,
+                 const vdbi::TriangleArray& triangles, std::size_t first,
                  std::size_t count, double cellSize);
 
     /// Distance from @a q to the nearest triangle if it is at most @a radius, else a value
@@ -43,8 +43,8 @@ private:
     CellKey cellOf(const openvdb::Vec3i& c) const;
     openvdb::Vec3i cellCoord(const openvdb::Vec3d& p) const;
 
-    const std::vector<openvdb::Vec3d>& mPoints;
-    const std::vector<openvdb::Vec3I>& mTriangles;
+    const vdbi::PointArray& mPoints;
+    const vdbi::TriangleArray& mTriangles;
     double mCellSize;
     std::unordered_map<CellKey, std::vector<std::uint32_t>> mCells;
     std::vector<openvdb::Vec3i> mLow, mHigh;   ///< cell range of every triangle (local index)
@@ -57,7 +57,7 @@ private:
 /// vertex intersect when they have a common point other than it (their cones at the vertex
 /// overlap); triangles sharing an edge intersect when they lie in one plane on the same side
 /// of it (a fold). Two triangles with the same three corners always intersect.
-bool trianglesIntersect(const std::vector<openvdb::Vec3d>& points, const openvdb::Vec3I& s,
+bool trianglesIntersect(const vdbi::PointArray& points, const openvdb::Vec3I& s,
                         const openvdb::Vec3I& t);
 
 /// One intersecting pair found by findSelfIntersections().
