@@ -4,6 +4,7 @@
 #include <vdbi/Fattening.h>
 #include <vdbi/InterfaceExtraction.h>
 #include <vdbi/Interfaces.h>
+#include <vdbi/RefinedLabels.h>
 
 #include "support/MeshChecker.h"
 
@@ -92,6 +93,40 @@ TEST_F(TestInterfaceExtraction, testEdgeContactIsSeparated)
     EXPECT_EQ(r.mesh.keyScale, 10);
     std::set<vdbi::VertexKey> keys(r.mesh.pointKeys.begin(), r.mesh.pointKeys.end());
     EXPECT_EQ(keys.size(), r.mesh.points.size()); // no duplicate vertices
+}
+
+// A block of subdivided voxels (s = 6) holding 24^3 isolated fine cubes of label 1, one at
+// every even fine point: 8 corners each, so the block emits 110,592 keys, more than its
+// 16-bit corner indices can hold. Exact counts, and a closed manifold.
+TEST_F(TestInterfaceExtraction, testBlockWithMoreThan65536Keys)
+{
+    const int s = 6;
+    vdbi::RefinedLabels refined;
+    auto coarse = openvdb::Int32Grid::create(0);
+    refined.fine = openvdb::Int32Grid::create(0);
+    refined.subdivided = openvdb::MaskGrid::create(false);
+    refined.subdivision = s;
+    coarse->tree().setValueOn(Coord(0, 0, 0)); // the block's leaf exists
+    auto fine = refined.fine->getAccessor();
+    auto mask = refined.subdivided->getAccessor();
+    for (int x = 0; x < 8; ++x) for (int y = 0; y < 8; ++y) for (int z = 0; z < 8; ++z) {
+        mask.setValueOn(Coord(x, y, z));
+    }
+    for (int x = 0; x < 8 * s; x += 2) for (int y = 0; y < 8 * s; y += 2) {
+        for (int z = 0; z < 8 * s; z += 2) fine.setValueOn(Coord(x, y, z), 1);
+    }
+    refined.coarse = coarse;
+    vdbi::ExtractionOptions options;
+    options.pointKeys = true;
+    const vdbi::InterfaceMesh mesh = vdbi::extractInterfacePatches(refined, options);
+    const std::size_t cubes = 24 * 24 * 24;
+    ASSERT_EQ(mesh.patches.size(), 1u);
+    EXPECT_EQ(mesh.patches[0].a, 0);
+    EXPECT_EQ(mesh.patches[0].b, 1);
+    EXPECT_EQ(mesh.triangles.size(), 12 * cubes);
+    EXPECT_EQ(mesh.points.size(), 8 * cubes);
+    const vdbi_test::MeshReport report = vdbi_test::checkMesh(mesh);
+    EXPECT_TRUE(report.ok()) << report.summary();
 }
 
 // The same mesh, bit for bit, for the serial fallback, one thread and all threads, on a

@@ -149,7 +149,12 @@ public:
         }
         // Exact sizes: the blocks keep these until the end of the extraction.
         out.keys.assign(mKeys.begin(), mKeys.end());
-        out.corners.assign(mCorners.begin(), mCorners.begin() + std::ptrdiff_t(mCornerCount));
+        const auto used = mCorners.begin() + std::ptrdiff_t(mCornerCount);
+        if (mKeys.size() <= (std::size_t(1) << 16)) {
+            out.corners16.assign(mCorners.begin(), used);
+        } else {
+            out.corners32.assign(mCorners.begin(), used);
+        }
         out.runs.assign(mRuns.begin(), mRuns.end());
         for (const PatchRun& run : mRuns) out.patchCounts[run.patch] += run.count;
     }

@@ -52,7 +52,10 @@ struct PatchRun
 struct BlockMesh
 {
     std::vector<LocalKey> keys;             ///< distinct corner keys, in order of first use
-    std::vector<std::uint32_t> corners;     ///< 3 per triangle: indices into keys
+    /// 3 per triangle: indices into keys, in 16 bits when there are at most 2^16 keys (nearly
+    /// every block: half the memory), else in 32; the other vector is empty.
+    std::vector<std::uint16_t> corners16;
+    std::vector<std::uint32_t> corners32;
     std::vector<LabelPair> patches;         ///< distinct label pairs, in order of first use
     std::vector<PatchRun> runs;             ///< the triangles in order, patch by patch
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
@@ -66,6 +69,8 @@ struct BlockMesh
     /// Keys this block numbers: those inside it in order of emission, then those on its min
     /// faces, sorted.
     std::vector<LocalKey> owned;
+
+    std::size_t triangleCount() const { return (corners16.size() + corners32.size()) / 3; }
 };
 
 /// @brief Emits the faces owned by the voxels of one block after another (face (v, a) is

@@ -78,6 +78,24 @@ handOverDirection(LocalKey k, int limit)
         | (int(keyComponent(k, 2) == limit) << 2);
 }
 
+/// Writes the triangles of @a block, corners @a corner (indices into its keys, whose global
+/// indices are @a global), to their places in @a mesh: those of its local patch l from
+/// start[l] on.
+template<typename Index>
+void
+scatterTriangles(const BlockMesh& block, const Index* corner,
+                 const std::vector<std::uint32_t>& global, std::vector<std::size_t> start,
+                 InterfaceMesh& mesh)
+{
+    for (const PatchRun& run : block.runs) {
+        openvdb::Vec3I* to = mesh.triangles.data() + start[run.patch];
+        start[run.patch] += run.count;
+        for (std::uint32_t t = 0; t < run.count; ++t, corner += 3) {
+            to[t] = openvdb::Vec3I(global[corner[0]], global[corner[1]], global[corner[2]]);
+        }
+    }
+}
+
 } // namespace
 
 InterfaceMesh
@@ -146,7 +164,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     }, 4);
     interrupt.throwIfStopped("extraction");
     std::size_t triangleTotal = 0;
-    for (const BlockMesh& block : blocks) triangleTotal += block.corners.size() / 3;
+    for (const BlockMesh& block : blocks) triangleTotal += block.triangleCount();
     InterfaceMesh mesh;
     // Uninitialized (see PointArray): the pages are first touched by the parallel loops
     // that fill them.
@@ -252,15 +270,10 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                     global[i] = std::uint32_t(offset + block.rank[i]);
                 }
             }
-            std::vector<std::size_t> next = start[n];
-            const std::uint32_t* corner = block.corners.data();
-            for (const PatchRun& run : block.runs) {
-                openvdb::Vec3I* to = mesh.triangles.data() + next[run.patch];
-                next[run.patch] += run.count;
-                for (std::uint32_t t = 0; t < run.count; ++t, corner += 3) {
-                    to[t] = openvdb::Vec3I(global[corner[0]], global[corner[1]],
-                                           global[corner[2]]);
-                }
+            if (block.corners32.empty()) {
+                scatterTriangles(block, block.corners16.data(), global, start[n], mesh);
+            } else {
+                scatterTriangles(block, block.corners32.data(), global, start[n], mesh);
             }
             // Nothing reads this block's triangles and keys again: free them here, in
             // parallel, rather than all at once at the end.
