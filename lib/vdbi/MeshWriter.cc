@@ -162,12 +162,29 @@ checkIndexRange(const std::string& path, std::size_t pointCount, std::size_t tri
 // ---------------------------------------------------------------------------------------
 // PLY
 
-/// Binary little-endian PLY; @a labels (one pair per triangle) adds the face properties
+/// The patches with triangles, in triangle order: after validateMesh() their ranges tile the
+/// triangles, so a writer reads each triangle's label pair from them in turn, without an
+/// array of pairs (55 MB for frog).
+std::vector<InterfacePatch>
+patchesInTriangleOrder(const std::vector<InterfacePatch>& patches)
+{
+    std::vector<InterfacePatch> order;
+    for (const InterfacePatch& p : patches) {
+        if (p.triangleCount > 0) order.push_back(p);
+    }
+    std::sort(order.begin(), order.end(), [](const InterfacePatch& x, const InterfacePatch& y) {
+        return x.firstTriangle < y.firstTriangle;
+    });
+    return order;
+}
+
+/// Binary little-endian PLY; @a patches (covering every triangle) adds the face properties
 /// label0 and label1.
 void
 writePlyBody(std::ostream& os, const PointArray& points, const TriangleArray& triangles,
-             const std::vector<std::array<Label, 2>>* labels, const std::string& comment)
+             const std::vector<InterfacePatch>* patches, const std::string& comment)
 {
+    const bool labels = patches != nullptr;
     std::ostringstream header;
     header << "ply\n"
            << "format binary_little_endian 1.0\n";
@@ -189,12 +206,19 @@ writePlyBody(std::ostream& os, const PointArray& points, const TriangleArray& tr
     for (const openvdb::Vec3d& p : points) {
         for (int k = 0; k < 3; ++k) sink.putF32(static_cast<float>(p[k]));
     }
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
+    auto putTriangle = [&](const openvdb::Vec3I& t) {
         sink.putU8(3);
-        for (int k = 0; k < 3; ++k) sink.putI32(static_cast<std::int32_t>(triangles[t][k]));
-        if (labels) {
-            sink.putI32((*labels)[t][0]);
-            sink.putI32((*labels)[t][1]);
+        for (int k = 0; k < 3; ++k) sink.putI32(static_cast<std::int32_t>(t[k]));
+    };
+    if (!labels) {
+        for (const openvdb::Vec3I& t : triangles) putTriangle(t);
+    } else {
+        for (const InterfacePatch& p : patchesInTriangleOrder(*patches)) {
+            for (std::size_t t = p.firstTriangle; t < p.firstTriangle + p.triangleCount; ++t) {
+                putTriangle(triangles[t]);
+                sink.putI32(p.a);
+                sink.putI32(p.b);
+            }
         }
     }
     sink.flush();
@@ -322,10 +346,11 @@ writeVtpBody(std::ostream& os, const InterfaceMesh& mesh)
     sink.putText(xml.str());
 
     sink.putU64(labelBytes);
-    const std::vector<std::array<Label, 2>> labels = mesh.triangleLabels();
-    for (const auto& pair : labels) {
-        sink.putI32(pair[0]);
-        sink.putI32(pair[1]);
+    for (const InterfacePatch& p : patchesInTriangleOrder(mesh.patches)) {
+        for (std::size_t t = 0; t < p.triangleCount; ++t) {
+            sink.putI32(p.a);
+            sink.putI32(p.b);
+        }
     }
 
     sink.putU64(pointBytes);
@@ -398,9 +423,8 @@ writeInterfaceMesh(const InterfaceMesh& mesh, const std::string& path)
 
     if (ext == "ply") {
         checkIndexRange(path, mesh.points.size(), mesh.triangles.size());
-        const std::vector<std::array<Label, 2>> labels = mesh.triangleLabels();
         writeFileAtomically(path, [&](std::ostream& os) {
-            writePlyBody(os, mesh.points, mesh.triangles, &labels,
+            writePlyBody(os, mesh.points, mesh.triangles, &mesh.patches,
                 "VDB Interfaces: label0 < label1, triangles counter-clockwise seen from label1");
         });
     } else if (ext == "obj") {
