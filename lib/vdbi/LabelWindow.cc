@@ -73,6 +73,24 @@ LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
     }
 }
 
+namespace {
+
+/// The 8 bits of a byte as 8 bools, lowest bit first: a leaf's value mask holds a row of 8
+/// voxels along z in one byte, bit z for voxel z.
+struct ByteBits
+{
+    bool bits[256][8];
+    constexpr ByteBits() : bits()
+    {
+        for (int b = 0; b < 256; ++b) {
+            for (int z = 0; z < 8; ++z) bits[b][z] = ((b >> z) & 1) != 0;
+        }
+    }
+};
+constexpr ByteBits BYTE_BITS;
+
+} // namespace
+
 bool
 MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
 {
@@ -102,11 +120,13 @@ MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
                     std::fill(row + FIRST[pz], row + END[pz], true);
                     continue;
                 }
-                openvdb::Index i = LeafT::coordToOffset(openvdb::Coord(
-                    x - FIRST[px] + LEAF_FIRST[px], y - FIRST[py] + LEAF_FIRST[py],
-                    LEAF_FIRST[pz]));
-                for (int z = FIRST[pz]; z < END[pz]; ++z, ++i) {
-                    row[z] = mLeaves[n]->isValueOn(i);
+                const openvdb::Index i = LeafT::coordToOffset(openvdb::Coord(
+                    x - FIRST[px] + LEAF_FIRST[px], y - FIRST[py] + LEAF_FIRST[py], 0));
+                const auto bits = mLeaves[n]->getValueMask().getWord<std::uint8_t>(i >> 3);
+                if (pz == 1) {
+                    std::copy_n(BYTE_BITS.bits[bits], BLOCK_DIM, row + 1);
+                } else {
+                    row[FIRST[pz]] = BYTE_BITS.bits[bits][LEAF_FIRST[pz]];
                 }
             }
         }
