@@ -3,6 +3,7 @@
 #include <vdbi/BlockFaces.h>
 
 #include <algorithm>
+#include <type_traits>
 
 namespace vdbi {
 namespace extraction {
@@ -148,13 +149,7 @@ public:
             }
         }
         // Exact sizes: the blocks keep these until the end of the extraction.
-        out.keys.assign(mKeys.begin(), mKeys.end());
-        const auto used = mCorners.begin() + std::ptrdiff_t(mCornerCount);
-        if (mKeys.size() <= (std::size_t(1) << 16)) {
-            out.corners16.assign(mCorners.begin(), used);
-        } else {
-            out.corners32.assign(mCorners.begin(), used);
-        }
+        storeKeysInsideFirst(out);
         out.runs.assign(mRuns.begin(), mRuns.end());
         for (const PatchRun& run : mRuns) out.patchCounts[run.patch] += run.count;
     }
@@ -180,6 +175,42 @@ private:
                 coarseFace(Coord(i, j, k), a, upper[k - LabelWindow::STRIDE[a]], upper[k],
                            first + k, nullptr);
             }
+        }
+    }
+
+    /// Stores the keys in @a out, those inside the block first (in order of first use, as the
+    /// others), and the corners renumbered to match.
+    void storeKeysInsideFirst(BlockMesh& out)
+    {
+        // Inside: every component strictly between the block's min and max faces.
+        const auto limit = LocalKey(BLOCK_DIM * 2 * mS);
+        auto inside = [limit](LocalKey k) {
+            return ((k >> 16) & 0xFFu) - 1u < limit - 1u && ((k >> 8) & 0xFFu) - 1u < limit - 1u
+                && (k & 0xFFu) - 1u < limit - 1u;
+        };
+        std::uint32_t nextInside = 0;
+        for (const LocalKey k : mKeys) nextInside += std::uint32_t(inside(k));
+        out.insideCount = nextInside;
+        std::uint32_t nextFace = nextInside;
+        nextInside = 0;
+        out.keys.resize(mKeys.size());
+        mNewIndex.resize(mKeys.size());
+        for (std::size_t i = 0; i < mKeys.size(); ++i) {
+            const std::uint32_t j = inside(mKeys[i]) ? nextInside++ : nextFace++;
+            mNewIndex[i] = j;
+            out.keys[j] = mKeys[i];
+        }
+        auto renumber = [&](auto& corners) {
+            corners.resize(mCornerCount);
+            for (std::size_t c = 0; c < mCornerCount; ++c) {
+                corners[c] = static_cast<typename std::decay_t<decltype(corners)>::value_type>(
+                    mNewIndex[mCorners[c]]);
+            }
+        };
+        if (mKeys.size() <= (std::size_t(1) << 16)) {
+            renumber(out.corners16);
+        } else {
+            renumber(out.corners32);
         }
     }
 
@@ -542,6 +573,7 @@ private:
     /// and copied to its BlockMesh at the end.
     std::vector<LocalKey> mKeys;
     std::vector<std::uint32_t> mCorners; ///< [0, mCornerCount) are used
+    std::vector<std::uint32_t> mNewIndex; ///< per key: its index in BlockMesh::keys
     std::size_t mCornerCount = 0;
     std::vector<PatchRun> mRuns;
     BlockMesh* mOut = nullptr;

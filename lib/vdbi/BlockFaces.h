@@ -38,9 +38,6 @@ keyComponent(LocalKey k, int axis)
     return int((k >> (16 - 8 * axis)) & 0xFFu);
 }
 
-/// BlockMesh::byOwner's entry of the keys inside a block, which no other block emits.
-constexpr int INSIDE = 8;
-
 /// Consecutive triangles of a block in one patch.
 struct PatchRun
 {
@@ -51,7 +48,11 @@ struct PatchRun
 /// Triangles of one block, before vertices are numbered globally.
 struct BlockMesh
 {
-    std::vector<LocalKey> keys;             ///< distinct corner keys, in order of first use
+    /// Distinct corner keys: first those inside the block, which no other block emits, then
+    /// those on its faces; each part in order of first use.
+    std::vector<LocalKey> keys;
+    /// How many keys are inside: the block numbers them 0, 1, ... in this order.
+    std::uint32_t insideCount = 0;
     /// 3 per triangle: indices into keys, in 16 bits when there are at most 2^16 keys (nearly
     /// every block: half the memory), else in 32; the other vector is empty.
     std::vector<std::uint16_t> corners16;
@@ -61,16 +62,19 @@ struct BlockMesh
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
     /// A key on the block's max faces is numbered by the neighbour at origin + 8d, where bit a
     /// of d says the key is on the max face along a; the others (d = 0) by the block itself.
-    /// byOwner[d] holds the indices into keys of those numbered by the block at origin + 8d,
-    /// byOwner[0] its own keys on its min faces, byOwner[INSIDE] those inside it.
-    std::array<std::vector<std::uint32_t>, 9> byOwner;
-    /// Per key: its index among the keys that its owner numbers (set by the owner).
+    /// byOwner[d] holds the indices into keys of the face keys numbered by the block at
+    /// origin + 8d, byOwner[0] those on its min faces only.
+    std::array<std::vector<std::uint32_t>, 8> byOwner;
+    /// Per face key (index into keys minus insideCount): its number at its owner (set by the
+    /// owner).
     std::vector<std::uint32_t> rank;
-    /// Keys this block numbers: those inside it in order of emission, then those on its min
-    /// faces, sorted.
-    std::vector<LocalKey> owned;
+    /// The face keys this block numbers, after its inside keys: those on its min faces (its
+    /// own and its neighbours'), sorted.
+    std::vector<LocalKey> faceKeys;
 
     std::size_t triangleCount() const { return (corners16.size() + corners32.size()) / 3; }
+    /// How many vertices the block numbers.
+    std::size_t ownedCount() const { return insideCount + faceKeys.size(); }
 };
 
 /// @brief Emits the faces owned by the voxels of one block after another (face (v, a) is

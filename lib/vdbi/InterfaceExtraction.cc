@@ -22,7 +22,6 @@ namespace {
 
 using openvdb::Coord;
 using extraction::BlockMesh;
-using extraction::INSIDE;
 using extraction::KEY_UNIT;
 using extraction::LabelPair;
 using extraction::LocalKey;
@@ -60,14 +59,6 @@ forEachChunk(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body&
     const tbb::blocked_range<std::size_t> all(0, n, grain);
     if (threaded) tbb::parallel_for(all, run);
     else run(all);
-}
-
-/// Whether @a k lies on one of the block's min faces, where the keys of the neighbours below
-/// meet its own.
-bool
-onMinFace(LocalKey k)
-{
-    return (k & 0xFF0000u) == 0 || (k & 0xFF00u) == 0 || (k & 0xFFu) == 0;
 }
 
 /// Bit a of the result: @a k lies on the block's max face along axis a (@a limit = 8 * 2s).
@@ -148,17 +139,12 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             const bool hasMask = mask->load(maskAcc, origins[n]);
             BlockMesh& block = blocks[n];
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
-            // Keys inside the block are its alone: numbered here, in the order of emission.
-            block.rank.resize(block.keys.size());
-            for (std::size_t i = 0; i < block.keys.size(); ++i) {
-                const LocalKey k = block.keys[i];
-                int d = handOverDirection(k, limit);
-                if (d == 0 && !onMinFace(k)) {
-                    d = INSIDE;
-                    block.rank[i] = std::uint32_t(block.owned.size());
-                    block.owned.push_back(k);
-                }
-                block.byOwner[d].push_back(std::uint32_t(i));
+            // Keys inside the block are its alone, numbered in their order; the face keys by
+            // their owners, in step 2.
+            block.rank.resize(block.keys.size() - block.insideCount);
+            for (std::size_t i = block.insideCount; i < block.keys.size(); ++i) {
+                block.byOwner[handOverDirection(block.keys[i], limit)].push_back(
+                    std::uint32_t(i));
             }
         }
     }, 4);
@@ -193,14 +179,15 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 }
             }
             std::sort(entries.begin(), entries.end());
-            std::vector<LocalKey>& owned = blocks[n].owned;
-            const std::size_t inside = owned.size();
-            owned.reserve(inside + entries.size());
+            std::vector<LocalKey>& faceKeys = blocks[n].faceKeys;
+            const std::uint32_t inside = blocks[n].insideCount;
+            faceKeys.reserve(entries.size());
             for (const std::uint64_t e : entries) {
                 const auto k = LocalKey(e >> 32);
-                if (owned.size() == inside || owned.back() != k) owned.push_back(k);
-                from[(e >> 29) & 7u]->rank[e & ((1u << 29) - 1)] =
-                    std::uint32_t(owned.size() - 1);
+                if (faceKeys.empty() || faceKeys.back() != k) faceKeys.push_back(k);
+                BlockMesh* owner = from[(e >> 29) & 7u];
+                owner->rank[(e & ((1u << 29) - 1)) - owner->insideCount] =
+                    inside + std::uint32_t(faceKeys.size() - 1);
             }
         }
     }, 8);
@@ -208,7 +195,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
 
     std::vector<std::size_t> vertexOffset(blockCount + 1, 0);
     for (std::size_t n = 0; n < blockCount; ++n) {
-        vertexOffset[n + 1] = vertexOffset[n] + blocks[n].owned.size();
+        vertexOffset[n + 1] = vertexOffset[n] + blocks[n].ownedCount();
     }
 
     // 3. Patches in (a, b) order; inside a patch, block order then emission order.
@@ -255,19 +242,21 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         std::vector<std::uint32_t> global;
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
             const BlockMesh& block = blocks[n];
-            std::ptrdiff_t owners[9];
-            owners[0] = owners[INSIDE] = std::ptrdiff_t(n);
-            for (int d = 1; d < 8; ++d) owners[d] = blockIndex(neighbourOrigin(n, d, 1));
             global.resize(block.keys.size());
-            for (int d = 0; d < 9; ++d) {
+            for (std::uint32_t i = 0; i < block.insideCount; ++i) {
+                global[i] = std::uint32_t(vertexOffset[n] + i);
+            }
+            for (int d = 0; d < 8; ++d) {
                 if (block.byOwner[d].empty()) continue;
-                if (owners[d] < 0) {
+                const std::ptrdiff_t owner = d == 0 ? std::ptrdiff_t(n)
+                    : blockIndex(neighbourOrigin(n, d, 1));
+                if (owner < 0) {
                     lostKey = true;
                     continue;
                 }
-                const std::size_t offset = vertexOffset[std::size_t(owners[d])];
+                const std::size_t offset = vertexOffset[std::size_t(owner)];
                 for (const std::uint32_t i : block.byOwner[d]) {
-                    global[i] = std::uint32_t(offset + block.rank[i]);
+                    global[i] = std::uint32_t(offset + block.rank[i - block.insideCount]);
                 }
             }
             if (block.corners32.empty()) {
@@ -275,11 +264,13 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             } else {
                 scatterTriangles(block, block.corners32.data(), global, start[n], mesh);
             }
-            // Nothing reads this block's triangles and keys again: free them here, in
+            // Only the keys the block numbers are read again: free the rest here, in
             // parallel, rather than all at once at the end.
-            std::vector<LocalKey> owned = std::move(blocks[n].owned);
-            blocks[n] = BlockMesh();
-            blocks[n].owned = std::move(owned);
+            BlockMesh numbered;
+            numbered.keys = std::move(blocks[n].keys);
+            numbered.insideCount = blocks[n].insideCount;
+            numbered.faceKeys = std::move(blocks[n].faceKeys);
+            blocks[n] = std::move(numbered);
         }
     }, 8);
     interrupt.throwIfStopped("extraction");
@@ -303,16 +294,18 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             BlockMesh& block = blocks[n];
             const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
                 std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
-            for (std::size_t i = 0; i < block.owned.size(); ++i) {
-                const VertexKey k = {base[0] + keyComponent(block.owned[i], 0),
-                    base[1] + keyComponent(block.owned[i], 1),
-                    base[2] + keyComponent(block.owned[i], 2)};
+            // Its inside keys, then its face keys (BlockMesh::faceKeys).
+            for (std::size_t i = 0; i < block.ownedCount(); ++i) {
+                const LocalKey local = i < block.insideCount ? block.keys[i]
+                    : block.faceKeys[i - block.insideCount];
+                const VertexKey k = {base[0] + keyComponent(local, 0),
+                    base[1] + keyComponent(local, 1), base[2] + keyComponent(local, 2)};
                 const openvdb::Vec3d index(double(k[0]) / double(K) - 0.5,
                     double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5);
                 mesh.points[vertexOffset[n] + i] = toWorld(index);
                 if (options.pointKeys) mesh.pointKeys[vertexOffset[n] + i] = k;
             }
-            blocks[n].owned = {};
+            block = BlockMesh();
         }
     }, 8);
     interrupt.throwIfStopped("extraction");
