@@ -12,34 +12,39 @@ namespace {
 
 using openvdb::Coord;
 
-/// Open-addressing map from the keys of one block to their indices in BlockMesh::keys.
+/// @brief Open-addressing map from the keys of one block to their indices.
+/// @details Keys inside the block (every component strictly between its min and max faces)
+/// are numbered 0, 1, ... in order of first use, keys on its faces FACE_KEY + 0, 1, ..., so
+/// that the block stores its inside keys first (BlockMesh::keys) without a renumbering table.
 class KeyIndex
 {
 public:
-    /// Starts a block whose keys go to @a keys; empties the slots of the previous block's keys
-    /// (still in the vector given last), latest first, so that every probe chain is intact
-    /// while its key is looked up.
-    void reset(std::vector<LocalKey>& keys)
+    static constexpr std::uint32_t FACE_KEY = std::uint32_t(1) << 31;
+
+    /// @param limit  the local key component of the block's max faces (8 * 2s)
+    explicit KeyIndex(int limit)
+        : mLimit(LocalKey(limit))
+        , mSlots(std::size_t(1) << 12, Slot{EMPTY, 0})
+        , mShift(32 - 12)
+    {}
+
+    /// Starts a block: forgets the keys of the previous one.
+    void reset()
     {
-        if (mSlots.empty()) {
-            mSlots.assign(std::size_t(1) << 12, Slot{EMPTY, 0});
-            mShift = 32 - 12;
-        } else if (mKeys) {
-            for (auto k = mKeys->rbegin(); k != mKeys->rend(); ++k) mSlots[find(*k)].key = EMPTY;
-        }
-        mKeys = &keys;
+        for (const std::size_t h : mUsed) mSlots[h].key = EMPTY;
+        mUsed.clear();
+        mInsideKeys.clear();
+        mFaceKeys.clear();
     }
 
     std::uint32_t insert(LocalKey k)
     {
         const std::size_t h = find(k);
-        if (mSlots[h].key == k) return mSlots[h].index;
-        const auto index = std::uint32_t(mKeys->size());
-        mKeys->push_back(k);
-        mSlots[h] = Slot{k, index};
-        if (2 * mKeys->size() > mSlots.size()) grow();
-        return index;
+        return mSlots[h].key == k ? mSlots[h].index : add(k, h);
     }
+
+    const std::vector<LocalKey>& insideKeys() const { return mInsideKeys; }
+    const std::vector<LocalKey>& faceKeys() const { return mFaceKeys; }
 
 private:
     struct Slot
@@ -48,6 +53,30 @@ private:
         std::uint32_t index;
     };
     static constexpr LocalKey EMPTY = ~LocalKey(0);
+
+    /// Numbers new key @a k, to go in empty slot @a h. Out of line: most keys are found, and
+    /// insert() stays small enough to inline.
+    [[gnu::noinline]] std::uint32_t add(LocalKey k, std::size_t h)
+    {
+        std::uint32_t index;
+        if (isInside(k)) {
+            index = std::uint32_t(mInsideKeys.size());
+            mInsideKeys.push_back(k);
+        } else {
+            index = FACE_KEY + std::uint32_t(mFaceKeys.size());
+            mFaceKeys.push_back(k);
+        }
+        mSlots[h] = Slot{k, index};
+        mUsed.push_back(h);
+        if (2 * mUsed.size() > mSlots.size()) grow();
+        return index;
+    }
+
+    bool isInside(LocalKey k) const
+    {
+        return ((k >> 16) & 0xFFu) - 1u < mLimit - 1u && ((k >> 8) & 0xFFu) - 1u < mLimit - 1u
+            && (k & 0xFFu) - 1u < mLimit - 1u;
+    }
 
     /// The slot holding @a k, or the empty slot where it would go.
     std::size_t find(LocalKey k) const
@@ -61,14 +90,25 @@ private:
     {
         mSlots.assign(mSlots.size() * 2, Slot{EMPTY, 0});
         --mShift;
-        for (std::size_t i = 0; i < mKeys->size(); ++i) {
-            mSlots[find((*mKeys)[i])] = Slot{(*mKeys)[i], std::uint32_t(i)};
+        mUsed.clear();
+        auto place = [this](LocalKey k, std::uint32_t index) {
+            const std::size_t h = find(k);
+            mSlots[h] = Slot{k, index};
+            mUsed.push_back(h);
+        };
+        for (std::size_t i = 0; i < mInsideKeys.size(); ++i) {
+            place(mInsideKeys[i], std::uint32_t(i));
+        }
+        for (std::size_t i = 0; i < mFaceKeys.size(); ++i) {
+            place(mFaceKeys[i], FACE_KEY + std::uint32_t(i));
         }
     }
 
+    const LocalKey mLimit;
     std::vector<Slot> mSlots;
-    int mShift = 0;
-    std::vector<LocalKey>* mKeys = nullptr;
+    int mShift;
+    std::vector<std::size_t> mUsed; ///< the slots in use
+    std::vector<LocalKey> mInsideKeys, mFaceKeys;
 };
 
 /// The local key with components @a ka along axis @a a and kb, kc along the next two (cyclic).
@@ -97,6 +137,7 @@ public:
         : mS(labels.subdivision)
         , mFine(labels.fine->tree())
         , mFacePairs(std::size_t(mS) * mS)
+        , mIndex(BLOCK_DIM * 2 * mS)
     {
         std::fill(std::begin(mFineSlot), std::end(mFineSlot), -1);
     }
@@ -105,8 +146,7 @@ public:
               BlockMesh& out)
     {
         mOut = &out;
-        mIndex.reset(mKeys);
-        mKeys.clear();
+        mIndex.reset();
         mCornerCount = 0;
         mRuns.clear();
         forgetFineVoxels();
@@ -178,36 +218,26 @@ private:
         }
     }
 
-    /// Stores the keys in @a out, those inside the block first (in order of first use, as the
-    /// others), and the corners renumbered to match.
+    /// Stores the keys in @a out, those inside the block first, and the corners with the
+    /// face keys' indices moved after the inside ones.
     void storeKeysInsideFirst(BlockMesh& out)
     {
-        // Inside: every component strictly between the block's min and max faces.
-        const auto limit = LocalKey(BLOCK_DIM * 2 * mS);
-        auto inside = [limit](LocalKey k) {
-            return ((k >> 16) & 0xFFu) - 1u < limit - 1u && ((k >> 8) & 0xFFu) - 1u < limit - 1u
-                && (k & 0xFFu) - 1u < limit - 1u;
-        };
-        std::uint32_t nextInside = 0;
-        for (const LocalKey k : mKeys) nextInside += std::uint32_t(inside(k));
-        out.insideCount = nextInside;
-        std::uint32_t nextFace = nextInside;
-        nextInside = 0;
-        out.keys.resize(mKeys.size());
-        mNewIndex.resize(mKeys.size());
-        for (std::size_t i = 0; i < mKeys.size(); ++i) {
-            const std::uint32_t j = inside(mKeys[i]) ? nextInside++ : nextFace++;
-            mNewIndex[i] = j;
-            out.keys[j] = mKeys[i];
-        }
+        const std::vector<LocalKey>& inside = mIndex.insideKeys();
+        const std::vector<LocalKey>& face = mIndex.faceKeys();
+        out.insideCount = std::uint32_t(inside.size());
+        out.keys.reserve(inside.size() + face.size());
+        out.keys.assign(inside.begin(), inside.end());
+        out.keys.insert(out.keys.end(), face.begin(), face.end());
+        // FACE_KEY + i becomes insideCount + i.
+        const std::uint32_t shift = KeyIndex::FACE_KEY - out.insideCount;
         auto renumber = [&](auto& corners) {
+            using Index = typename std::decay_t<decltype(corners)>::value_type;
             corners.resize(mCornerCount);
             for (std::size_t c = 0; c < mCornerCount; ++c) {
-                corners[c] = static_cast<typename std::decay_t<decltype(corners)>::value_type>(
-                    mNewIndex[mCorners[c]]);
+                corners[c] = Index(mCorners[c] - (mCorners[c] >> 31) * shift);
             }
         };
-        if (mKeys.size() <= (std::size_t(1) << 16)) {
+        if (out.keys.size() <= (std::size_t(1) << 16)) {
             renumber(out.corners16);
         } else {
             renumber(out.corners32);
@@ -569,11 +599,9 @@ private:
     std::vector<std::unique_ptr<Label[]>> mFineStore;
     std::vector<std::uint64_t> mFacePairs;
     KeyIndex mIndex;
-    /// The block's keys, corners and patch indices, grown here (reused from block to block)
-    /// and copied to its BlockMesh at the end.
-    std::vector<LocalKey> mKeys;
+    /// The block's corners and patch indices, grown here (reused from block to block) and
+    /// copied to its BlockMesh at the end.
     std::vector<std::uint32_t> mCorners; ///< [0, mCornerCount) are used
-    std::vector<std::uint32_t> mNewIndex; ///< per key: its index in BlockMesh::keys
     std::size_t mCornerCount = 0;
     std::vector<PatchRun> mRuns;
     BlockMesh* mOut = nullptr;
