@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace vdbi {
@@ -59,12 +60,19 @@ struct EdgeDiamond
     }
 };
 
-/// The rounds on one patch; holds only the state of a round (valences, old positions).
+/// A triangle by its corner positions.
+struct Triangle
+{
+    Point a, b, c;
+};
+
+/// The rounds on one patch; holds the state of a round (valences, old positions) and the
+/// reference points every face covers.
 class IsotropicRemesher
 {
 public:
-    IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings)
-        : mPatch(patch), mMesh(patch.mesh()), mSettings(settings) {}
+    IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings);
+    ~IsotropicRemesher() { mMesh.remove_property(mFirstCovered); }
 
     void splitLongEdges();
     void collapseShortEdges();
@@ -77,6 +85,35 @@ public:
 private:
     bool isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position);
     bool isFlipAllowed(EdgeHandle e);
+    void collapseEdge(HalfedgeHandle h, const Point& position);
+    void flipEdge(EdgeHandle e);
+    VertexHandle splitEdge(EdgeHandle e);
+
+    Triangle triangle(FaceHandle f) const
+    {
+        auto it = mMesh.cfv_iter(f);
+        const VertexHandle a = *it, b = *++it, c = *++it;
+        return {mMesh.point(a), mMesh.point(b), mMesh.point(c)};
+    }
+    /// @brief After an operation changed @a changed (some perhaps deleted): a point whose
+    /// nearest point on its face is no longer inside it goes to the nearest of @a around
+    /// (the first of equals).
+    void recover(const std::vector<FaceHandle>& changed, const std::vector<FaceHandle>& around)
+    {
+        mPoints.clear();
+        for (const FaceHandle f : changed) releaseOutside(f);
+        coverByNearest(around);
+    }
+    /// Moves the points of @a f whose nearest point on it is not inside it to mPoints.
+    void releaseOutside(FaceHandle f);
+    /// Every point of mPoints covered by the nearest of @a faces (the first of equals).
+    void coverByNearest(const std::vector<FaceHandle>& faces);
+    /// @brief Is every reference point covered by @a faces within the deviation bound of one
+    /// of @a triangles (the surface replacing them), or no farther from them than from its
+    /// own face as it was (at @a before, the current positions if null)?
+    bool keepsCovered(const std::vector<FaceHandle>& faces,
+                      const std::vector<Triangle>& triangles,
+                      const std::vector<Point>* before = nullptr) const;
 
     bool isLocked(VertexHandle v) const { return mPatch.isLocked(v); }
     bool isFree(VertexHandle v) const { return mPatch.isFree(v); }
@@ -87,7 +124,6 @@ private:
         return mPatch.agrees(a, b, c, va, vb, vc);
     }
     bool agrees(FaceHandle f) const { return mPatch.agrees(f); }
-    VertexHandle splitEdge(EdgeHandle e) { return mPatch.splitEdge(e); }
 
     int targetValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 4 : 6; }
     int minValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 2 : 3; }
@@ -116,7 +152,157 @@ private:
     std::vector<Point> mPrevious;   ///< positions before relaxation
     /// Valence of every vertex, kept up to date during the collapse and flip passes.
     std::vector<int> mValence;
+    /// The reference vertices off the curves, each covered by (listed at) the face nearest to
+    /// it. Operations keep the surface within the deviation bound of these fixed points, not
+    /// of the surface of the step before: a bound against the last step lets tips and thin
+    /// parts erode a little every round. Lists: the first point + 1 per face (0: none), the
+    /// next + 1 per point.
+    OpenMesh::FPropHandleT<int> mFirstCovered;
+    std::vector<int> mNextCovered;
+    const std::vector<Vec3d>& mReferencePoints;
+    std::vector<int> mPoints;                ///< scratch: points to cover again
+    std::vector<FaceHandle> mChanged;        ///< scratch: faces an operation changed
+    std::vector<FaceHandle> mFaces;          ///< scratch: faces around an operation
+    std::vector<Triangle> mTriangles;        ///< scratch: the triangles replacing them
 };
+
+IsotropicRemesher::IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings)
+    : mPatch(patch), mMesh(patch.mesh()), mSettings(settings),
+      mReferencePoints(patch.reference().points())
+{
+    // Mesh vertex i was made at reference vertex i: a face at it covers it (at distance 0).
+    mMesh.add_property(mFirstCovered, "f:covered");
+    for (const FaceHandle f : mMesh.faces()) mMesh.property(mFirstCovered, f) = 0;
+    mNextCovered.assign(mReferencePoints.size(), 0);
+    for (std::size_t i = 0; i < mReferencePoints.size(); ++i) {
+        if (mPatch.isCurvePoint(i)) continue;
+        const VertexHandle v{int(i)};
+        for (const FaceHandle f : mMesh.vf_range(v)) {
+            mNextCovered[i] = mMesh.property(mFirstCovered, f);
+            mMesh.property(mFirstCovered, f) = int(i) + 1;
+            break;
+        }
+    }
+}
+
+void
+IsotropicRemesher::releaseOutside(FaceHandle f)
+{
+    int& first = mMesh.property(mFirstCovered, f);
+    if (first == 0) return;
+    int i = first;
+    first = 0;
+    const bool deleted = mMesh.status(f).deleted();
+    const Triangle t = deleted ? Triangle{} : triangle(f);
+    while (i != 0) {
+        const int next = mNextCovered[i - 1];
+        Vec3d bary(0.0);
+        if (!deleted) {
+            closestPointOnTriangle(mReferencePoints[i - 1], toVec(t.a), toVec(t.b), toVec(t.c),
+                                   bary);
+        }
+        if (bary[0] > 0.0 && bary[1] > 0.0 && bary[2] > 0.0) {
+            mNextCovered[i - 1] = first;
+            first = i;
+        } else {
+            mPoints.push_back(i - 1);
+        }
+        i = next;
+    }
+}
+
+void
+IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
+{
+    if (mPoints.empty()) return;
+    mTriangles.clear();
+    for (const FaceHandle f : faces) mTriangles.push_back(triangle(f));
+    for (const int i : mPoints) {
+        const Point q = toPoint(mReferencePoints[i]);
+        std::size_t best = 0;
+        double bestDistance = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < faces.size(); ++k) {
+            const Triangle& t = mTriangles[k];
+            const double d = distance2(q, t.a, t.b, t.c);
+            if (d < bestDistance) {
+                bestDistance = d;
+                best = k;
+            }
+        }
+        int& first = mMesh.property(mFirstCovered, faces[best]);
+        mNextCovered[i] = first;
+        first = i + 1;
+    }
+}
+
+bool
+IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
+                                const std::vector<Triangle>& triangles,
+                                const std::vector<Point>* before) const
+{
+    const double limit2 = mSettings.deviation2;
+    const std::size_t count = triangles.size();
+    for (std::size_t k = 0; k < faces.size(); ++k) {
+        const FaceHandle f = faces[k];
+        const int first = mMesh.property(mFirstCovered, f);
+        if (first == 0) continue;
+        Triangle old = triangle(f);
+        if (before) {
+            auto it = mMesh.cfv_iter(f);
+            const VertexHandle a = *it, b = *++it, c = *++it;
+            old = {(*before)[a.idx()], (*before)[b.idx()], (*before)[c.idx()]};
+        }
+        for (int i = first; i != 0; i = mNextCovered[i - 1]) {
+            const Point q = toPoint(mReferencePoints[i - 1]);
+            // The triangle at the same place in the list first: mostly the face itself.
+            double nearest = std::numeric_limits<double>::infinity();
+            for (std::size_t j = 0; j < count && nearest > limit2; ++j) {
+                const Triangle& t = triangles[(k + j) % count];
+                nearest = std::min(nearest, distance2(q, t.a, t.b, t.c));
+            }
+            if (nearest > limit2 && nearest > distance2(q, old.a, old.b, old.c)) return false;
+        }
+    }
+    return true;
+}
+
+VertexHandle
+IsotropicRemesher::splitEdge(EdgeHandle e)
+{
+    // The midpoint changes no geometry: points go to the nearest of the four faces.
+    mChanged.clear();
+    for (int k = 0; k < 2; ++k) {
+        const FaceHandle f = mMesh.face_handle(mMesh.halfedge_handle(e, k));
+        if (f.is_valid()) mChanged.push_back(f);
+    }
+    const VertexHandle m = mPatch.splitEdge(e);
+    mFaces.assign(mMesh.vf_begin(m), mMesh.vf_end(m));
+    recover(mChanged, mFaces);
+    return m;
+}
+
+void
+IsotropicRemesher::flipEdge(EdgeHandle e)
+{
+    mMesh.flip(e);
+    mFaces.clear();
+    for (int k = 0; k < 2; ++k) mFaces.push_back(mMesh.face_handle(mMesh.halfedge_handle(e, k)));
+    recover(mFaces, mFaces);
+}
+
+void
+IsotropicRemesher::collapseEdge(HalfedgeHandle h, const Point& position)
+{
+    const VertexHandle gone = mMesh.from_vertex_handle(h), kept = mMesh.to_vertex_handle(h);
+    mChanged.assign(mMesh.vf_begin(gone), mMesh.vf_end(gone));
+    if (position != mMesh.point(kept)) {
+        mChanged.insert(mChanged.end(), mMesh.vf_begin(kept), mMesh.vf_end(kept));
+    }
+    mMesh.collapse(h);
+    mMesh.set_point(kept, position);
+    mFaces.assign(mMesh.vf_begin(kept), mMesh.vf_end(kept));
+    recover(mChanged, mFaces);
+}
 
 void
 IsotropicRemesher::splitLongEdges()
@@ -144,7 +330,7 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
 {
     const VertexHandle v0 = mMesh.from_vertex_handle(h), v1 = mMesh.to_vertex_handle(h);
     if (!isFree(v0)) return false;   // boundary (sample) vertices never go
-    const Point p0 = mMesh.point(v0), p1 = mMesh.point(v1);
+    const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1);
     const bool moves = toMidpoint && isFree(v1);
     position = moves ? (p0 + p1) * 0.5 : p1;
     const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
@@ -174,34 +360,34 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     if (valence(vr) - 1 < minValence(vr)) return false;
     if (valence(v1) + valence(v0) - 4 < minValence(v1)) return false;
 
-    // No triangle may turn over or collapse, and the points that go must stay close to the new
-    // surface. Turning is judged against the triangle's own old normal, not the reference
-    // normals: those vary over the smoothed staircase by more than a triangle of two voxels
-    // does, and refused most collapses of short edges. The kept vertex lies on every new
-    // face: a point that close passes without a search.
-    const double limit2 = mSettings.deviation2;
-    double near0 = (p0 - position).sqrnorm(), near1 = moves ? (p1 - position).sqrnorm() : 0.0;
+    // No triangle may turn over or collapse, and the reference points the changed faces
+    // cover must stay close to the new surface. Turning is judged against the triangle's own
+    // old normal, not the reference normals: those vary over the smoothed staircase by more
+    // than a triangle of two voxels does, and refused most collapses of short edges.
+    mFaces.clear();
+    mTriangles.clear();
     for (const VertexHandle centre : {v0, v1}) {
-        if (centre == v1 && !moves) break;
         for (const FaceHandle f : mMesh.vf_range(centre)) {
             auto it = mMesh.cfv_iter(f);
             VertexHandle c[3] = {*it, *++it, *++it};
             int ends = 0;
             for (int k = 0; k < 3; ++k) ends += (c[k] == v0 || c[k] == v1);
+            if (centre == v1 && ends == 2) continue;   // met already around v0
+            if (centre == v0 || moves) mFaces.push_back(f);
             if (ends == 2) continue;   // removed with the edge
             Point p[3];
             for (int k = 0; k < 3; ++k) {
                 p[k] = (c[k] == v0 || c[k] == v1) ? position : mMesh.point(c[k]);
             }
-            if (near0 > limit2) near0 = std::min(near0, distance2(p0, p[0], p[1], p[2]));
-            if (near1 > limit2) near1 = std::min(near1, distance2(p1, p[0], p[1], p[2]));
+            mTriangles.push_back({p[0], p[1], p[2]});
+            if (centre == v1 && !moves) continue;   // stays as it is
             if (!agrees(f)) continue;   // was folded already: may unfold
             const Point before = (mMesh.point(c[1]) - mMesh.point(c[0]))
                 % (mMesh.point(c[2]) - mMesh.point(c[0]));
             if ((before | ((p[1] - p[0]) % (p[2] - p[0]))) <= 0.0) return false;
         }
     }
-    return std::max(near0, near1) <= limit2;
+    return keepsCovered(mFaces, mTriangles);
 }
 
 void
@@ -232,8 +418,7 @@ IsotropicRemesher::collapseShortEdges()
             mValence[kept.idx()] += mValence[gone.idx()] - 4;   // an inner edge: two faces go
             --mValence[vl.idx()];
             --mValence[vr.idx()];
-            mMesh.collapse(g);
-            mMesh.set_point(kept, position);
+            collapseEdge(g, position);
             break;
         }
     }
@@ -256,13 +441,16 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     const int before = int(agrees(p0, p1, pc, v0, v1, c)) + int(agrees(p1, p0, pd, v1, v0, d));
     const int after = int(agrees(p0, pd, pc, v0, d, c)) + int(agrees(pd, p1, pc, d, v1, c));
     if (after < before || (before == 2 && after < 2)) return false;
-    // Across a ridge or valley the other diagonal cuts it off: keep the two surfaces close.
-    // Each diagonal's midpoint is on its own faces, so close midpoints need no search.
+    // Across a ridge the other diagonal cuts it off (the covered points tell), across a valley
+    // it bridges it: keep the new diagonal close to the old faces. Its midpoint close to the
+    // old one needs no search.
+    mFaces.assign({mMesh.face_handle(h0), mMesh.face_handle(h1)});
+    mTriangles.assign({Triangle{p0, pd, pc}, Triangle{pd, p1, pc}});
+    if (!keepsCovered(mFaces, mTriangles)) return false;
     const Point oldMid = (p0 + p1) * 0.5, newMid = (pc + pd) * 0.5;
     if ((oldMid - newMid).sqrnorm() <= mSettings.deviation2) return true;
-    const double oldToNew = std::min(distance2(oldMid, p0, pd, pc), distance2(oldMid, pd, p1, pc));
-    const double newToOld = std::min(distance2(newMid, p0, p1, pc), distance2(newMid, p1, p0, pd));
-    return std::max(oldToNew, newToOld) <= mSettings.deviation2;
+    return std::min(distance2(newMid, p0, p1, pc), distance2(newMid, p1, p0, pd))
+        <= mSettings.deviation2;
 }
 
 void
@@ -286,7 +474,7 @@ IsotropicRemesher::equalizeValences()
             after += (val + change - target) * (val + change - target);
         }
         if (after < before && isFlipAllowed(e)) {
-            mMesh.flip(e);
+            flipEdge(e);
             --mValence[v[0].idx()];
             --mValence[v[1].idx()];
             ++mValence[v[2].idx()];
@@ -317,7 +505,7 @@ IsotropicRemesher::removeCaps()
         if (mMesh.status(e).deleted() || mMesh.is_boundary(e)) continue;
         const EdgeDiamond q(mMesh, e);
         if (!sumExceedsPi(q.p0, q.p1, q.pc, q.pd)) continue;
-        if (q.smallestCosFlipped() < q.smallestCos() && isFlipAllowed(e)) mMesh.flip(e);
+        if (q.smallestCosFlipped() < q.smallestCos() && isFlipAllowed(e)) flipEdge(e);
     }
 }
 
@@ -338,7 +526,7 @@ IsotropicRemesher::flipSharpTriangles()
             const double before = q.smallestCos();
             if (before <= sharpCos) continue;
             if (q.smallestCosFlipped() < before && isFlipAllowed(e)) {
-                mMesh.flip(e);
+                flipEdge(e);
                 changed = true;
             }
         }
@@ -422,8 +610,9 @@ IsotropicRemesher::projectToReference()
     }
     // A triangle folded now that agreed before the round, or after relaxation (relaxation
     // unfolds what attaching the samples folded), must not stay folded: step the vertex back,
-    // from projected to relaxed to where it was, until no move folds a triangle or uncovers
-    // the place the vertex left (a serial sweep in vertex order: the same result every time).
+    // from projected to relaxed to where it was, until no move folds a triangle or leaves a
+    // covered reference point behind (a serial sweep in vertex order: the same result every
+    // time).
     auto agreedAt = [&](FaceHandle f, const std::vector<Point>& at) {
         auto it = mMesh.cfv_iter(f);
         const VertexHandle a = *it, b = *++it, c = *++it;
@@ -438,20 +627,16 @@ IsotropicRemesher::projectToReference()
         for (const VertexHandle v : check) {
             if (!kept[v.idx()]) continue;
             bool keep = true;
-            // The vertex is on its new faces: a short move cannot uncover its old place.
-            double nearest2 = (mMesh.point(v) - mPrevious[v.idx()]).sqrnorm();
+            mFaces.clear();
+            mTriangles.clear();
             for (const FaceHandle f : mMesh.vf_range(v)) {
-                auto it = mMesh.cfv_iter(f);
-                const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
-                            &c = mMesh.point(*++it);
-                if (nearest2 > mSettings.deviation2) {
-                    nearest2 = std::min(nearest2, distance2(mPrevious[v.idx()], a, b, c));
-                }
+                mFaces.push_back(f);
+                mTriangles.push_back(triangle(f));
                 if (!agrees(f) && (agreedAt(f, mPrevious) || agreedAt(f, relaxed))) {
                     keep = false;
                 }
             }
-            if (keep && nearest2 <= mSettings.deviation2) continue;
+            if (keep && keepsCovered(mFaces, mTriangles, &mPrevious)) continue;
             --kept[v.idx()];
             mMesh.set_point(v, kept[v.idx()] ? relaxed[v.idx()] : mPrevious[v.idx()]);
             mPatch.refNormal(v) = normals[v.idx()];
@@ -462,6 +647,25 @@ IsotropicRemesher::projectToReference()
         std::sort(next.begin(), next.end());
         next.erase(std::unique(next.begin(), next.end()), next.end());
         check.swap(next);
+    }
+    // Points of a face that moved go to the nearest of it and the faces around its corners.
+    for (const FaceHandle f : mMesh.faces()) {
+        if (mMesh.status(f).deleted() || mMesh.property(mFirstCovered, f) == 0) continue;
+        bool moved = false;
+        for (const VertexHandle v : mMesh.fv_range(f)) moved = moved || kept[v.idx()];
+        if (!moved) continue;
+        mPoints.clear();
+        releaseOutside(f);
+        if (mPoints.empty()) continue;
+        mFaces.assign(1, f);
+        for (const VertexHandle v : mMesh.fv_range(f)) {
+            for (const FaceHandle g : mMesh.vf_range(v)) {
+                if (g != f && std::find(mFaces.begin(), mFaces.end(), g) == mFaces.end()) {
+                    mFaces.push_back(g);
+                }
+            }
+        }
+        coverByNearest(mFaces);
     }
 }
 

@@ -20,8 +20,9 @@ struct RemeshSettings
     double low2 = 0.0;             ///< (4/5 target)^2: shorter edges are collapsed
     double high2 = 0.0;            ///< (4/3 target)^2: longer edges are split
     int iterations = 10;
-    /// (Largest distance)^2 between a point of the surface before a collapse, flip or
-    /// relaxation move and the surface after it: keeps tips and thin parts from being eaten.
+    /// (Largest distance)^2 between a reference surface point (off the curves) and the
+    /// surface after a collapse, flip or relaxation move, unless it was farther before: keeps
+    /// tips and thin parts from being eaten.
     double deviation2 = 0.0;
     /// A vertex whose reference normal differs from a neighbour's by more than this angle
     /// sits on a crease or corner: it is kept in place of a flat neighbour when collapsing.
@@ -39,11 +40,14 @@ struct RemeshSettings
 /// smallest angle.
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
 /// configuration, an inner edge between two locked vertices that another patch may make too
-/// (RemeshingPatch::mayJoinLocked()), or takes the surface more than
-/// sqrt(deviation2) away from a point it had; a collapse turns no triangle over (against its
-/// own old normal), a flip or projection folds none against the reference normals; no
-/// relaxation move drags a vertex across a crease, and a vertex on a folded triangle relaxes
-/// to the mean of its neighbours (unfolding what attaching the samples folded). So the patch
+/// (RemeshingPatch::mayJoinLocked()), or takes the surface more than sqrt(deviation2) away
+/// from a vertex of the reference surface off the curves (nor farther than it was: every
+/// face keeps a list of the reference points nearest to it, so the bound holds against the
+/// fixed reference, not the mesh of the step before); a collapse turns no triangle over
+/// (against its own old normal), a flip or projection folds none against the reference
+/// normals; no relaxation move drags a vertex across a crease, and a vertex on a folded
+/// triangle relaxes to the mean of its neighbours (unfolding what attaching the samples
+/// folded). So the patch
 /// keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
 /// depends on the patch alone.
 /// @return false if the interrupter asked to stop (the patch is then unfinished)

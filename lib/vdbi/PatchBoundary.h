@@ -68,6 +68,9 @@ public:
     TriMesh& mesh() { return mMesh; }
     const TriMesh& mesh() const { return mMesh; }
     const ReferenceSurface& reference() const { return *mReference.surface; }
+    /// Is reference vertex @a i on a feature curve? (Mesh vertex i is made at reference
+    /// vertex i.)
+    bool isCurvePoint(std::size_t i) const { return mReference.onCurve[i] != 0; }
 
     bool isLocked(VertexHandle v) const { return mMesh.property(mSample, v) >= 0; }
     /// @brief May an inner edge of this patch join locked vertices @a u and @a v?

@@ -376,6 +376,7 @@ buildPatchReference(const InterfaceMesh& mesh, std::size_t patch, const FeatureC
         }
     }
     smoothSurfacePoints(points, original, result.triangles, fixed, iterations, maxDisplacement);
+    result.onCurve = std::move(fixed);
     result.surface.reset(new ReferenceSurface(std::move(points), result.triangles));
     return result;
 }

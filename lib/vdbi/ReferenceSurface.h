@@ -108,6 +108,8 @@ struct PatchReference
     std::vector<openvdb::Vec3I> triangles;
     /// The smoothed surface: local vertices, the boundary ones on the smoothed curves.
     std::unique_ptr<ReferenceSurface> surface;
+    /// Nonzero for every local vertex on a feature curve (kept in place by smoothing).
+    std::vector<std::uint8_t> onCurve;
     /// Every feature curve on the patch boundary, ascending, with true when the boundary
     /// walked against the triangles' orientation (OpenMesh's boundary halfedges) runs from
     /// the curve's first point to its last.

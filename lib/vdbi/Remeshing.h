@@ -57,8 +57,9 @@ struct RemeshStatistics
 ///    smallest angle), tangential relaxation, projection onto the reference surface. No
 ///    operation creates a non-manifold configuration, a folded triangle, an interior edge
 ///    between two boundary vertices that another patch may make too (only the first patch
-///    on the curves of both may), or takes the surface more than 0.4 voxel away from a
-///    point it had; no relaxation move drags a vertex across a crease. So a patch never
+///    on the curves of both may), or takes the surface more than 0.6 voxel away from a
+///    point of the reference surface (off the curves; nor farther than it already was); no
+///    relaxation move drags a vertex across a crease. So a patch never
 ///    loses its topology (every label keeps its Euler characteristic) and a patch on a
 ///    boundary loop of three samples keeps a fan around an inner vertex.
 /// 5. Where triangles of two patches sharing a label cross near their common curve (each
