@@ -327,6 +327,49 @@ TEST_F(TestRemeshing, testFeatureCurvesOfTouchingBoxes)
     }
 }
 
+// A patch's reference surface numbers the points the patch uses ascending, its triangles in
+// those local numbers, its curve points fixed; both ways of numbering (a table over a
+// compact range of point indices, a search among scattered ones) are taken on random blobs.
+TEST_F(TestRemeshing, testPatchReferenceNumbering)
+{
+    std::size_t compact = 0, scattered = 0;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        const auto raw = extract(*randomBlobs(seed, 20, 4, 10));
+        auto curves = vdbi::findFeatureCurves(raw);
+        vdbi::smoothFeatureCurves(curves, raw, 10, Vec3d(0.45));
+        for (std::size_t p = 0; p < raw.patches.size(); ++p) {
+            const auto& patch = raw.patches[p];
+            std::vector<std::uint32_t> used;
+            for (std::size_t t = 0; t < patch.triangleCount; ++t) {
+                for (int i = 0; i < 3; ++i) {
+                    used.push_back(raw.triangles[patch.firstTriangle + t][i]);
+                }
+            }
+            const auto range = *std::max_element(used.begin(), used.end())
+                - *std::min_element(used.begin(), used.end()) + 1;
+            (range <= 4 * used.size() ? compact : scattered) += 1;
+            std::sort(used.begin(), used.end());
+            used.erase(std::unique(used.begin(), used.end()), used.end());
+
+            const auto ref = vdbi::buildPatchReference(raw, p, curves, 10, Vec3d(0.45));
+            ASSERT_EQ(ref.rawPoints, used);
+            ASSERT_EQ(ref.triangles.size(), patch.triangleCount);
+            for (std::size_t t = 0; t < patch.triangleCount; ++t) {
+                for (int i = 0; i < 3; ++i) {
+                    ASSERT_EQ(ref.rawPoints[ref.triangles[t][i]],
+                              raw.triangles[patch.firstTriangle + t][i]);
+                }
+            }
+            // Every boundary point lies on its smoothed curve, so it is fixed; some are.
+            std::size_t onCurve = 0;
+            for (std::size_t i = 0; i < used.size(); ++i) onCurve += ref.onCurve[i] != 0;
+            EXPECT_GT(onCurve, 0u);
+        }
+    }
+    EXPECT_GT(compact, 0u);
+    EXPECT_GT(scattered, 0u);
+}
+
 // A ball of label 1 in a shell of label 2: two closed patches (no curves), and the patch
 // (0, 2) outside; the remeshed surfaces stay within a voxel of the staircase.
 TEST_F(TestRemeshing, testNestedBalls)

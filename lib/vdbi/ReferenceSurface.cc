@@ -96,53 +96,6 @@ smoothSurfacePoints(std::vector<Vec3d>& points, const std::vector<Vec3d>& origin
 }
 
 
-Vec3d
-closestPointOnTriangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c,
-                       Vec3d& bary)
-{
-    // Voronoi regions of the vertices, then of the edges, else the inside.
-    const Vec3d ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0.0 && d2 <= 0.0) { bary = Vec3d(1, 0, 0); return a; }
-    const Vec3d bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0.0 && d4 <= d3) { bary = Vec3d(0, 1, 0); return b; }
-    const Vec3d cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0.0 && d5 <= d6) { bary = Vec3d(0, 0, 1); return c; }
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        const double v = d1 / (d1 - d3);
-        bary = Vec3d(1.0 - v, v, 0.0);
-        return a + ab * v;
-    }
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        const double w = d2 / (d2 - d6);
-        bary = Vec3d(1.0 - w, 0.0, w);
-        return a + ac * w;
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        bary = Vec3d(0.0, 1.0 - w, w);
-        return b + (c - b) * w;
-    }
-    const double sum = va + vb + vc;
-    if (!(sum > 0.0)) {   // degenerate triangle: the nearest of its corners
-        const double da = (p - a).lengthSqr(), db = (p - b).lengthSqr(),
-                     dc = (p - c).lengthSqr();
-        if (da <= db && da <= dc) { bary = Vec3d(1, 0, 0); return a; }
-        if (db <= dc) { bary = Vec3d(0, 1, 0); return b; }
-        bary = Vec3d(0, 0, 1);
-        return c;
-    }
-    const double v = vb / sum, w = vc / sum;
-    bary = Vec3d(1.0 - v - w, v, w);
-    return a + ab * v + ac * w;
-}
-
-
 struct ReferenceSurface::Impl
 {
     std::vector<Vec3d> points;
@@ -227,6 +180,60 @@ searchAround(const Impl& m, const Vec3d& query, const std::uint32_t* vertices, s
         }
     }
     return found;
+}
+
+/// @brief The points of triangles [begin, end) of @a mesh, ascending (@a rawPoints), and the
+/// triangles in those local indices.
+/// @details Through a table over the patch's range of point indices when that range is
+/// small against the patch (the extraction numbers points block by block, so most patches
+/// are compact); else by binary search in the sorted points.
+void
+numberPatchPoints(const InterfaceMesh& mesh, std::size_t begin, std::size_t end,
+                  std::vector<std::uint32_t>& rawPoints, std::vector<openvdb::Vec3I>& triangles)
+{
+    triangles.resize(end - begin);
+    if (begin == end) return;
+    std::uint32_t low = ~std::uint32_t(0), high = 0;
+    for (std::size_t t = begin; t < end; ++t) {
+        for (int i = 0; i < 3; ++i) {
+            low = std::min(low, std::uint32_t(mesh.triangles[t][i]));
+            high = std::max(high, std::uint32_t(mesh.triangles[t][i]));
+        }
+    }
+    const std::size_t range = std::size_t(high - low) + 1, corners = 3 * (end - begin);
+    if (range <= 4 * corners) {
+        constexpr std::uint32_t UNUSED = ~std::uint32_t(0);
+        std::vector<std::uint32_t> local(range, UNUSED);
+        for (std::size_t t = begin; t < end; ++t) {
+            for (int i = 0; i < 3; ++i) local[mesh.triangles[t][i] - low] = 0;
+        }
+        rawPoints.clear();
+        for (std::size_t p = 0; p < range; ++p) {
+            if (local[p] == UNUSED) continue;
+            local[p] = std::uint32_t(rawPoints.size());
+            rawPoints.push_back(std::uint32_t(low + p));
+        }
+        for (std::size_t t = begin; t < end; ++t) {
+            const openvdb::Vec3I& tri = mesh.triangles[t];
+            triangles[t - begin] = openvdb::Vec3I(local[tri[0] - low], local[tri[1] - low],
+                                                  local[tri[2] - low]);
+        }
+        return;
+    }
+    rawPoints.reserve(corners);
+    for (std::size_t t = begin; t < end; ++t) {
+        for (int i = 0; i < 3; ++i) rawPoints.push_back(mesh.triangles[t][i]);
+    }
+    std::sort(rawPoints.begin(), rawPoints.end());
+    rawPoints.erase(std::unique(rawPoints.begin(), rawPoints.end()), rawPoints.end());
+    auto local = [&](std::uint32_t p) {
+        return std::uint32_t(std::lower_bound(rawPoints.begin(), rawPoints.end(), p)
+                             - rawPoints.begin());
+    };
+    for (std::size_t t = begin; t < end; ++t) {
+        const openvdb::Vec3I& tri = mesh.triangles[t];
+        triangles[t - begin] = openvdb::Vec3I(local(tri[0]), local(tri[1]), local(tri[2]));
+    }
 }
 
 } // namespace
@@ -319,22 +326,8 @@ buildPatchReference(const InterfaceMesh& mesh, std::size_t patch, const FeatureC
     };
     PatchReference result;
     const std::size_t begin = info.firstTriangle, end = begin + info.triangleCount;
-    std::vector<std::uint32_t>& rawPoints = result.rawPoints;
-    rawPoints.reserve(3 * info.triangleCount);
-    for (std::size_t t = begin; t < end; ++t) {
-        for (int i = 0; i < 3; ++i) rawPoints.push_back(mesh.triangles[t][i]);
-    }
-    std::sort(rawPoints.begin(), rawPoints.end());
-    rawPoints.erase(std::unique(rawPoints.begin(), rawPoints.end()), rawPoints.end());
-    auto local = [&](std::uint32_t p) {
-        return std::uint32_t(std::lower_bound(rawPoints.begin(), rawPoints.end(), p)
-                             - rawPoints.begin());
-    };
-    result.triangles.resize(info.triangleCount);
-    for (std::size_t t = begin; t < end; ++t) {
-        const openvdb::Vec3I& tri = mesh.triangles[t];
-        result.triangles[t - begin] = openvdb::Vec3I(local(tri[0]), local(tri[1]), local(tri[2]));
-    }
+    numberPatchPoints(mesh, begin, end, result.rawPoints, result.triangles);
+    const std::vector<std::uint32_t>& rawPoints = result.rawPoints;
 
     const std::size_t n = rawPoints.size();
     std::vector<Vec3d> original(n), points(n);
@@ -345,27 +338,32 @@ buildPatchReference(const InterfaceMesh& mesh, std::size_t patch, const FeatureC
     }
     // A triangle edge whose reverse is in no triangle is a boundary edge; the boundary runs
     // against it. Boundary points move onto their smoothed feature curve and stay there.
-    std::vector<std::uint64_t> directed;
-    directed.reserve(3 * result.triangles.size());
+    // Reverses are looked up among the edges leaving each point (a handful), not in a sorted
+    // list of all edges: linear time, and no sort of 3 x the triangle count.
+    std::vector<std::uint32_t> firstOut(n + 1, 0), outTo(3 * result.triangles.size());
     for (const openvdb::Vec3I& t : result.triangles) {
-        for (int i = 0; i < 3; ++i) {
-            directed.push_back(std::uint64_t(t[i]) << 32 | t[(i + 1) % 3]);
-        }
+        for (int i = 0; i < 3; ++i) ++firstOut[t[i] + 1];
     }
-    std::sort(directed.begin(), directed.end());
-    for (const std::uint64_t e : directed) {
-        const std::uint32_t v = std::uint32_t(e >> 32), u = std::uint32_t(e);
-        if (std::binary_search(directed.begin(), directed.end(), std::uint64_t(u) << 32 | v)) {
-            continue;
+    for (std::size_t i = 1; i <= n; ++i) firstOut[i] += firstOut[i - 1];
+    std::vector<std::uint32_t> fill(firstOut.begin(), firstOut.end() - 1);
+    for (const openvdb::Vec3I& t : result.triangles) {
+        for (int i = 0; i < 3; ++i) outTo[fill[t[i]]++] = t[(i + 1) % 3];
+    }
+    for (std::uint32_t v = 0; v < n; ++v) {
+        for (std::uint32_t k = firstOut[v]; k < firstOut[v + 1]; ++k) {
+            const std::uint32_t u = outTo[k];
+            const auto from = outTo.begin() + firstOut[u], to = outTo.begin() + firstOut[u + 1];
+            if (std::find(from, to, v) != to) continue;
+            // v -> u has no reverse: the boundary runs u -> v.
+            const FeatureEdge* edge = curves.findEdge(rawPoints[u], rawPoints[v]);
+            if (!edge) fail("a boundary edge is no feature edge");
+            const FeatureCurve& curve = curves.curves[edge->curve];
+            const bool forward = curve.points[edge->segment] == rawPoints[u];
+            points[u] = curve.smoothed[edge->segment + (forward ? 0 : 1)];
+            points[v] = curve.smoothed[edge->segment + (forward ? 1 : 0)];
+            fixed[u] = fixed[v] = 1;
+            result.curveDirections.emplace_back(edge->curve, forward);
         }
-        const FeatureEdge* edge = curves.findEdge(rawPoints[u], rawPoints[v]);
-        if (!edge) fail("a boundary edge is no feature edge");
-        const FeatureCurve& curve = curves.curves[edge->curve];
-        const bool forward = curve.points[edge->segment] == rawPoints[u];
-        points[u] = curve.smoothed[edge->segment + (forward ? 0 : 1)];
-        points[v] = curve.smoothed[edge->segment + (forward ? 1 : 0)];
-        fixed[u] = fixed[v] = 1;
-        result.curveDirections.emplace_back(edge->curve, forward);
     }
     auto& directions = result.curveDirections;
     std::sort(directions.begin(), directions.end());

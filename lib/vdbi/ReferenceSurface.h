@@ -94,10 +94,54 @@ private:
     std::unique_ptr<Impl> mImpl;
 };
 
-/// @brief The point of triangle (a, b, c) closest to @a p, with its barycentric coordinates.
-openvdb::Vec3d closestPointOnTriangle(const openvdb::Vec3d& p, const openvdb::Vec3d& a,
-                                      const openvdb::Vec3d& b, const openvdb::Vec3d& c,
-                                      openvdb::Vec3d& barycentric);
+/// @brief The point of triangle (a, b, c) closest to @a p, with its barycentric coordinates
+/// (inline: the remeshing's checks call it hundreds of millions of times).
+inline openvdb::Vec3d
+closestPointOnTriangle(const openvdb::Vec3d& p, const openvdb::Vec3d& a,
+                       const openvdb::Vec3d& b, const openvdb::Vec3d& c,
+                       openvdb::Vec3d& bary)
+{
+    // Voronoi regions of the vertices, then of the edges, else the inside.
+    const openvdb::Vec3d ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0.0 && d2 <= 0.0) { bary = openvdb::Vec3d(1, 0, 0); return a; }
+    const openvdb::Vec3d bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0.0 && d4 <= d3) { bary = openvdb::Vec3d(0, 1, 0); return b; }
+    const openvdb::Vec3d cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0.0 && d5 <= d6) { bary = openvdb::Vec3d(0, 0, 1); return c; }
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        const double v = d1 / (d1 - d3);
+        bary = openvdb::Vec3d(1.0 - v, v, 0.0);
+        return a + ab * v;
+    }
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        const double w = d2 / (d2 - d6);
+        bary = openvdb::Vec3d(1.0 - w, 0.0, w);
+        return a + ac * w;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        bary = openvdb::Vec3d(0.0, 1.0 - w, w);
+        return b + (c - b) * w;
+    }
+    const double sum = va + vb + vc;
+    if (!(sum > 0.0)) {   // degenerate triangle: the nearest of its corners
+        const double da = (p - a).lengthSqr(), db = (p - b).lengthSqr(),
+                     dc = (p - c).lengthSqr();
+        if (da <= db && da <= dc) { bary = openvdb::Vec3d(1, 0, 0); return a; }
+        if (db <= dc) { bary = openvdb::Vec3d(0, 1, 0); return b; }
+        bary = openvdb::Vec3d(0, 0, 1);
+        return c;
+    }
+    const double v = vb / sum, w = vc / sum;
+    bary = openvdb::Vec3d(1.0 - v - w, v, w);
+    return a + ab * v + ac * w;
+}
 
 /// @brief One patch of an interface mesh in local numbering, with its reference surface.
 struct PatchReference
