@@ -394,6 +394,7 @@ void
 IsotropicRemesher::collapseShortEdges()
 {
     countValences();
+    std::size_t collapses = 0;
     const std::size_t count = mMesh.n_edges();
     for (std::size_t i = 0; i < count; ++i) {
         const EdgeHandle e{int(i)};
@@ -419,10 +420,14 @@ IsotropicRemesher::collapseShortEdges()
             --mValence[vl.idx()];
             --mValence[vr.idx()];
             collapseEdge(g, position);
+            ++collapses;
             break;
         }
     }
     mValence.clear();
+    // The first pass deletes most of the staircase: compact, so that no later loop steps
+    // over the deleted elements (properties move along; nothing keeps handles across).
+    if (collapses > 0) mMesh.garbage_collection();
 }
 
 bool
