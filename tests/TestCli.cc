@@ -254,15 +254,25 @@ TEST_F(TestCli, testRemeshingOnRequest)
 TEST_F(TestCli, testTerminateDuringExtraction)
 {
     // SIGTERM 0.3 s into a run on the frog (seconds of CPU on one thread, the outputs come
-    // last): status 128 + 15, nothing written, not even the per-label folder.
-    const std::string script = "cd " + shellQuote(mWork.string()) + " && { "
-        + shellQuote(VDBI_CLI_PATH) + " " + shellQuote(vdbi_test::dataPath("frogtissue.mhd"))
-        + " --threads 1 -o frog.ply --per-label frog --report frog.json 2>"
-        + shellQuote((mCapture / "err").string()) + " & pid=$!; sleep 0.3; kill -TERM $pid; "
-        + "wait $pid; echo $? >" + shellQuote((mCapture / "status").string()) + "; }";
-    ASSERT_EQ(std::system(script.c_str()), 0);
-    EXPECT_EQ(std::stoi(readAll(mCapture / "status")), 128 + SIGTERM);
-    EXPECT_EQ(readAll(mCapture / "err"), "vdb_interfaces: interrupted\n");
+    // last): status 128 + 15, nothing written, not even the per-label folder. On a loaded
+    // machine the signal may come before the CLI handles it (it restarts itself first, see
+    // HugePages.h): killed silently, so it is tried again later.
+    std::string err;
+    int status = 0;
+    for (const char* delay : {"0.3", "0.6", "1.0"}) {
+        const std::string script = "cd " + shellQuote(mWork.string()) + " && { "
+            + shellQuote(VDBI_CLI_PATH) + " " + shellQuote(vdbi_test::dataPath("frogtissue.mhd"))
+            + " --threads 1 -o frog.ply --per-label frog --report frog.json 2>"
+            + shellQuote((mCapture / "err").string()) + " & pid=$!; sleep " + delay
+            + "; kill -TERM $pid; wait $pid; echo $? >"
+            + shellQuote((mCapture / "status").string()) + "; }";
+        ASSERT_EQ(std::system(script.c_str()), 0);
+        status = std::stoi(readAll(mCapture / "status"));
+        err = readAll(mCapture / "err");
+        if (!(status == 128 + SIGTERM && err.empty())) break;
+    }
+    EXPECT_EQ(status, 128 + SIGTERM);
+    EXPECT_EQ(err, "vdb_interfaces: interrupted\n");
     EXPECT_TRUE(listFolder(mWork).empty());
 }
 
