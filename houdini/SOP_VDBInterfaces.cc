@@ -275,7 +275,7 @@ newSopOperator(OP_OperatorTable* table)
         .setDocumentation("Target edge length of remeshing, in world units. 0 means one voxel."));
 
     parms.add(hutil::ParmFactory(PRM_INT_J, "iterations", "Iterations")
-        .setDefault(10)
+        .setDefault(5)
         .setRange(PRM_RANGE_RESTRICTED, 0, PRM_RANGE_UI, 50)
         .setTooltip("Remeshing iterations.")
         .setDocumentation("Number of remeshing iterations."));

@@ -105,7 +105,8 @@ extract(const openvdb::Int32Grid& grid)
 }
 
 vdbi::InterfaceMesh
-remesh(const vdbi::InterfaceMesh& raw, double edgeLength, bool threaded = true, int iterations = 10)
+remesh(const vdbi::InterfaceMesh& raw, double edgeLength, bool threaded = true,
+       int iterations = vdbi::RemeshOptions().iterations)
 {
     vdbi::RemeshOptions options;
     options.edgeLength = edgeLength;

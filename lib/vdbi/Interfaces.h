@@ -22,7 +22,7 @@ struct Options
     RepairOptions repair;        ///< priority, constraints, threading, interrupter
     bool remesh = false;         ///< remeshing is not available yet: the raw extraction
     double edgeLength = 0.0;     ///< target edge length in world units (0: one voxel)
-    int iterations = 10;         ///< remeshing iterations
+    int iterations = 5;          ///< remeshing iterations (see RemeshOptions)
     /// Extract only the faces owned by the voxels of this box (face (v, axis) belongs to
     /// voxel v), reading a halo of HALO voxels around it; empty: the whole grid. The raw
     /// patches of boxes that tile a grid stitch by their vertex keys into exactly the

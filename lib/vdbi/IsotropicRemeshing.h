@@ -19,7 +19,7 @@ struct RemeshSettings
     double target = 1.0;
     double low2 = 0.0;             ///< (4/5 target)^2: shorter edges are collapsed
     double high2 = 0.0;            ///< (4/3 target)^2: longer edges are split
-    int iterations = 10;
+    int iterations = 5;
     /// (Largest distance)^2 between a reference surface point (off the curves) and the
     /// surface after a collapse, flip or relaxation move, unless it was farther before: keeps
     /// tips and thin parts from being eaten.

@@ -17,8 +17,10 @@ struct RemeshOptions
 {
     /// Target edge length in world units, > 0.
     double edgeLength = 1.0;
-    /// Split/collapse/flip/relax/project rounds.
-    int iterations = 10;
+    /// Split/collapse/flip/relax/project rounds. Five: more change little (frog, 5 against 10
+    /// rounds at 1, 2 and 4 voxels: edges in range 99.86 / 97.33 / 77.40 against 99.87 /
+    /// 97.38 / 77.50 %, the same 1st-percentile smallest angles) and cost 20-45 % more time.
+    int iterations = 5;
     /// World size of one voxel along x, y and z (an axis-aligned transform): the unit of the
     /// smoothing bounds, so curves and reference surfaces stay within a fraction of a voxel of
     /// the staircase along every axis. Zeros: derived from the mesh's point keys, or the edge
