@@ -164,6 +164,8 @@ private:
     std::vector<FaceHandle> mChanged;        ///< scratch: faces an operation changed
     std::vector<FaceHandle> mFaces;          ///< scratch: faces around an operation
     std::vector<Triangle> mTriangles;        ///< scratch: the triangles replacing them
+    std::vector<FaceHandle> mRemovedFaces;   ///< scratch: faces a collapse removes
+    std::vector<Triangle> mUnchangedTriangles;   ///< scratch: triangles a collapse keeps
 };
 
 IsotropicRemesher::IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings)
@@ -366,6 +368,8 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     // than a triangle of two voxels does, and refused most collapses of short edges.
     mFaces.clear();
     mTriangles.clear();
+    mRemovedFaces.clear();
+    mUnchangedTriangles.clear();
     for (const VertexHandle centre : {v0, v1}) {
         for (const FaceHandle f : mMesh.vf_range(centre)) {
             auto it = mMesh.cfv_iter(f);
@@ -373,20 +377,30 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
             int ends = 0;
             for (int k = 0; k < 3; ++k) ends += (c[k] == v0 || c[k] == v1);
             if (centre == v1 && ends == 2) continue;   // met already around v0
-            if (centre == v0 || moves) mFaces.push_back(f);
-            if (ends == 2) continue;   // removed with the edge
+            if (ends == 2) {   // removed with the edge
+                mRemovedFaces.push_back(f);
+                continue;
+            }
             Point p[3];
             for (int k = 0; k < 3; ++k) {
                 p[k] = (c[k] == v0 || c[k] == v1) ? position : mMesh.point(c[k]);
             }
+            if (centre == v1 && !moves) {   // stays as it is
+                mUnchangedTriangles.push_back({p[0], p[1], p[2]});
+                continue;
+            }
+            mFaces.push_back(f);
             mTriangles.push_back({p[0], p[1], p[2]});
-            if (centre == v1 && !moves) continue;   // stays as it is
             if (!agrees(f)) continue;   // was folded already: may unfold
             const Point before = (mMesh.point(c[1]) - mMesh.point(c[0]))
                 % (mMesh.point(c[2]) - mMesh.point(c[0]));
             if ((before | ((p[1] - p[0]) % (p[2] - p[0]))) <= 0.0) return false;
         }
     }
+    // Face k becomes triangle k, which keepsCovered() tries first for its points; the removed
+    // faces and the unchanged triangles come after.
+    mFaces.insert(mFaces.end(), mRemovedFaces.begin(), mRemovedFaces.end());
+    mTriangles.insert(mTriangles.end(), mUnchangedTriangles.begin(), mUnchangedTriangles.end());
     return keepsCovered(mFaces, mTriangles);
 }
 
