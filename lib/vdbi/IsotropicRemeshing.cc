@@ -111,9 +111,11 @@ private:
     /// @brief Is every reference point covered by @a faces within the deviation bound of one
     /// of @a triangles (the surface replacing them), or no farther from them than from its
     /// own face as it was (at @a before, the current positions if null)?
+    /// Only the points of the first @a checkCount faces are looked at (all by default).
     bool keepsCovered(const std::vector<FaceHandle>& faces,
                       const std::vector<Triangle>& triangles,
-                      const std::vector<Point>* before = nullptr) const;
+                      const std::vector<Point>* before = nullptr,
+                      std::size_t checkCount = std::size_t(-1)) const;
 
     bool isLocked(VertexHandle v) const { return mPatch.isLocked(v); }
     bool isFree(VertexHandle v) const { return mPatch.isFree(v); }
@@ -240,11 +242,11 @@ IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
 bool
 IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
                                 const std::vector<Triangle>& triangles,
-                                const std::vector<Point>* before) const
+                                const std::vector<Point>* before, std::size_t checkCount) const
 {
     const double limit2 = mSettings.deviation2;
     const std::size_t count = triangles.size();
-    for (std::size_t k = 0; k < faces.size(); ++k) {
+    for (std::size_t k = 0; k < std::min(checkCount, faces.size()); ++k) {
         const FaceHandle f = faces[k];
         const int first = mMesh.property(mFirstCovered, f);
         if (first == 0) continue;
@@ -639,6 +641,17 @@ IsotropicRemesher::projectToReference()
         return (n | normals[a.idx()]) > 0.0 && (n | normals[b.idx()]) > 0.0
             && (n | normals[c.idx()]) > 0.0;
     };
+    // A face whose points all lie within the bound of the face itself passes at every
+    // corner: remembered until a corner steps back, so a face is measured about once a
+    // round, not once per corner.
+    std::vector<char> closeToItself(mMesh.n_faces(), 0);
+    auto isCloseToItself = [&](FaceHandle f, const Triangle& t) {
+        for (int i = mMesh.property(mFirstCovered, f); i != 0; i = mNextCovered[i - 1]) {
+            const Point q = toPoint(mReferencePoints[i - 1]);
+            if (distance2(q, t.a, t.b, t.c) > mSettings.deviation2) return false;
+        }
+        return true;
+    };
     std::vector<VertexHandle> check, next;
     for (const VertexHandle v : mMesh.vertices()) if (kept[v.idx()]) check.push_back(v);
     for (int round = 0; round < 40 && !check.empty(); ++round) {
@@ -648,17 +661,28 @@ IsotropicRemesher::projectToReference()
             bool keep = true;
             mFaces.clear();
             mTriangles.clear();
+            std::size_t unsure = 0;   // faces not close to themselves, moved to the front
             for (const FaceHandle f : mMesh.vf_range(v)) {
                 mFaces.push_back(f);
                 mTriangles.push_back(triangle(f));
                 if (!agrees(f) && (agreedAt(f, mPrevious) || agreedAt(f, relaxed))) {
                     keep = false;
+                    break;
                 }
+                char& close = closeToItself[f.idx()];
+                if (!close) close = isCloseToItself(f, mTriangles.back());
+                if (close) continue;
+                std::swap(mFaces[unsure], mFaces.back());
+                std::swap(mTriangles[unsure], mTriangles.back());
+                ++unsure;
             }
-            if (keep && keepsCovered(mFaces, mTriangles, &mPrevious)) continue;
+            if (keep && (unsure == 0 || keepsCovered(mFaces, mTriangles, &mPrevious, unsure))) {
+                continue;
+            }
             --kept[v.idx()];
             mMesh.set_point(v, kept[v.idx()] ? relaxed[v.idx()] : mPrevious[v.idx()]);
             mPatch.refNormal(v) = normals[v.idx()];
+            for (const FaceHandle f : mMesh.vf_range(v)) closeToItself[f.idx()] = 0;
             // It and its neighbours' faces changed: look at them again.
             if (kept[v.idx()]) next.push_back(v);
             for (const VertexHandle w : mMesh.vv_range(v)) if (kept[w.idx()]) next.push_back(w);
