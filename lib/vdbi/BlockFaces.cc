@@ -428,18 +428,23 @@ private:
                         }
                         continue;
                     }
-                    // A row along z inside a leaf is one byte of its value mask: visit only
-                    // its active voxels.
+                    // A slice across x of a leaf is one word of its value mask, and a row
+                    // along z in it one byte: visit only the active voxels of a row, and
+                    // skip slices without any.
                     const int z0 = cut[2][pz], zn = cut[2][pz + 1] - z0;
                     const int leafZ0 = (lo.z() + z0) & int(LeafT::DIM - 1);
                     const unsigned rowBits = (1u << zn) - 1u;
                     const Label* values = leaf->buffer().data();
                     for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
+                        const int leafX = (lo.x() + x) & int(LeafT::DIM - 1);
+                        const std::uint64_t slice =
+                            leaf->getValueMask().template getWord<std::uint64_t>(leafX);
+                        if (slice == 0) continue;
                         for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
-                            const openvdb::Index row = LeafT::coordToOffset(
-                                lo.offsetBy(x, y, z0)) >> 3;
-                            unsigned bits = (unsigned(leaf->getValueMask().template
-                                getWord<std::uint8_t>(row)) >> leafZ0) & rowBits;
+                            const int row = leafX * int(LeafT::DIM)
+                                + ((lo.y() + y) & int(LeafT::DIM - 1));
+                            unsigned bits =
+                                unsigned(slice >> (8 * (row & 7) + leafZ0)) & rowBits;
                             Label* dst = out + (x * s + y) * s + z0;
                             const Label* src = values + 8 * row + leafZ0;
                             for (; bits; bits &= bits - 1) {
