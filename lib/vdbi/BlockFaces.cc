@@ -259,8 +259,10 @@ private:
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
-        if (!mRuns.empty() && mOut->patches[mRuns.back().patch] == pair) return;
-        const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
+        // Element by element: std::array's == calls memcmp.
+        auto isPair = [&pair](const LabelPair& p) { return p[0] == pair[0] && p[1] == pair[1]; };
+        if (!mRuns.empty() && isPair(mOut->patches[mRuns.back().patch])) return;
+        const auto it = std::find_if(mOut->patches.begin(), mOut->patches.end(), isPair);
         const auto patch = std::uint32_t(it - mOut->patches.begin());
         if (it == mOut->patches.end()) {
             mOut->patches.push_back(pair);
