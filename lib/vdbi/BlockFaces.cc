@@ -16,6 +16,8 @@ using openvdb::Coord;
 /// @details Keys inside the block (every component strictly between its min and max faces)
 /// are numbered 0, 1, ... in order of first use, keys on its faces FACE_KEY + 0, 1, ..., so
 /// that the block stores its inside keys first (BlockMesh::keys) without a renumbering table.
+/// A slot holds its key tagged with the block's epoch in the 8 bits a key leaves free: slots of
+/// earlier blocks count as empty, so starting a block clears nothing.
 class KeyIndex
 {
 public:
@@ -23,92 +25,99 @@ public:
 
     /// @param limit  the local key component of the block's max faces (8 * 2s)
     explicit KeyIndex(int limit)
-        : mLimit(LocalKey(limit))
-        , mSlots(std::size_t(1) << 12, Slot{EMPTY, 0})
-        , mShift(32 - 12)
-    {}
+        : mInsideMax(LocalKey(limit - 1))
+    {
+        resize(std::size_t(1) << 12);
+    }
 
     /// Starts a block: forgets the keys of the previous one.
     void reset()
     {
-        for (const std::size_t h : mUsed) mSlots[h].key = EMPTY;
-        mUsed.clear();
-        mInsideKeys.clear();
-        mFaceKeys.clear();
+        mInsideCount = mFaceCount = 0;
+        if (++mEpoch == EPOCH_END) {
+            // Tags of 255 blocks ago would look current again.
+            std::fill(mSlots.begin(), mSlots.end(), Slot{0, 0});
+            mEpoch = 1;
+        }
+        mTag = mEpoch << 24;
     }
 
     std::uint32_t insert(LocalKey k)
     {
-        const std::size_t h = find(k);
-        return mSlots[h].key == k ? mSlots[h].index : add(k, h);
+        const LocalKey tag = k | mTag;
+        std::size_t h = std::uint32_t(k * 0x9E3779B1u) >> mShift; // Fibonacci hashing
+        while (mSlots[h].tag != tag) {
+            if ((mSlots[h].tag ^ mTag) >> 24 != 0) return add(tag, h);
+            h = (h + 1) & (mSlots.size() - 1);
+        }
+        return mSlots[h].index;
     }
 
-    const std::vector<LocalKey>& insideKeys() const { return mInsideKeys; }
-    const std::vector<LocalKey>& faceKeys() const { return mFaceKeys; }
+    const LocalKey* insideKeys() const { return mInsideKeys.data(); }
+    std::uint32_t insideCount() const { return mInsideCount; }
+    const LocalKey* faceKeys() const { return mFaceKeys.data(); }
+    std::uint32_t faceCount() const { return mFaceCount; }
 
 private:
     struct Slot
     {
-        LocalKey key;
+        LocalKey tag; ///< key | epoch << 24
         std::uint32_t index;
     };
-    static constexpr LocalKey EMPTY = ~LocalKey(0);
+    static constexpr LocalKey EPOCH_END = 256;
 
-    /// Numbers new key @a k, to go in empty slot @a h. Out of line: most keys are found, and
-    /// insert() stays small enough to inline.
-    [[gnu::noinline]] std::uint32_t add(LocalKey k, std::size_t h)
+    /// Numbers new key tag @a tag, to go in empty slot @a h.
+    std::uint32_t add(LocalKey tag, std::size_t h)
     {
+        const LocalKey k = tag & 0xFFFFFFu;
         std::uint32_t index;
         if (isInside(k)) {
-            index = std::uint32_t(mInsideKeys.size());
-            mInsideKeys.push_back(k);
+            index = mInsideCount;
+            mInsideKeys[mInsideCount++] = k;
         } else {
-            index = FACE_KEY + std::uint32_t(mFaceKeys.size());
-            mFaceKeys.push_back(k);
+            index = FACE_KEY + mFaceCount;
+            mFaceKeys[mFaceCount++] = k;
         }
-        mSlots[h] = Slot{k, index};
-        mUsed.push_back(h);
-        if (2 * mUsed.size() > mSlots.size()) grow();
+        mSlots[h] = Slot{tag, index};
+        if (2 * std::size_t(mInsideCount + mFaceCount) > mSlots.size()) grow();
         return index;
     }
 
     bool isInside(LocalKey k) const
     {
-        return ((k >> 16) & 0xFFu) - 1u < mLimit - 1u && ((k >> 8) & 0xFFu) - 1u < mLimit - 1u
-            && (k & 0xFFu) - 1u < mLimit - 1u;
+        return (((k >> 16) - 1u < mInsideMax) & (((k >> 8) & 0xFFu) - 1u < mInsideMax)
+            & ((k & 0xFFu) - 1u < mInsideMax)) != 0;
     }
 
-    /// The slot holding @a k, or the empty slot where it would go.
-    std::size_t find(LocalKey k) const
+    /// Makes the table @a slots long, and the key lists long enough for all the keys it
+    /// holds before it grows again.
+    void resize(std::size_t slots)
     {
-        std::size_t h = std::uint32_t(k * 0x9E3779B1u) >> mShift; // Fibonacci hashing
-        while (mSlots[h].key != EMPTY && mSlots[h].key != k) h = (h + 1) & (mSlots.size() - 1);
-        return h;
+        mSlots.assign(slots, Slot{0, 0});
+        mShift = 32 - int(openvdb::util::FindLowestOn(std::uint32_t(slots)));
+        mInsideKeys.resize(slots / 2 + 1);
+        mFaceKeys.resize(slots / 2 + 1);
     }
 
-    void grow()
+    /// Out of line: rare, and it keeps add() small enough to inline.
+    [[gnu::noinline]] void grow()
     {
-        mSlots.assign(mSlots.size() * 2, Slot{EMPTY, 0});
-        --mShift;
-        mUsed.clear();
+        resize(mSlots.size() * 2);
         auto place = [this](LocalKey k, std::uint32_t index) {
-            const std::size_t h = find(k);
-            mSlots[h] = Slot{k, index};
-            mUsed.push_back(h);
+            std::size_t h = std::uint32_t(k * 0x9E3779B1u) >> mShift;
+            while (mSlots[h].tag >> 24 == mEpoch) h = (h + 1) & (mSlots.size() - 1);
+            mSlots[h] = Slot{k | mTag, index};
         };
-        for (std::size_t i = 0; i < mInsideKeys.size(); ++i) {
-            place(mInsideKeys[i], std::uint32_t(i));
-        }
-        for (std::size_t i = 0; i < mFaceKeys.size(); ++i) {
-            place(mFaceKeys[i], FACE_KEY + std::uint32_t(i));
-        }
+        for (std::uint32_t i = 0; i < mInsideCount; ++i) place(mInsideKeys[i], i);
+        for (std::uint32_t i = 0; i < mFaceCount; ++i) place(mFaceKeys[i], FACE_KEY + i);
     }
 
-    const LocalKey mLimit;
+    const LocalKey mInsideMax; ///< the largest component of a key inside the block, minus 1
     std::vector<Slot> mSlots;
     int mShift;
-    std::vector<std::size_t> mUsed; ///< the slots in use
-    std::vector<LocalKey> mInsideKeys, mFaceKeys;
+    LocalKey mEpoch = 0, mTag = 0;
+    std::vector<LocalKey> mInsideKeys, mFaceKeys; ///< [0, count) are used
+    std::uint32_t mInsideCount = 0, mFaceCount = 0;
 };
 
 /// The local key with components @a ka along axis @a a and kb, kc along the next two (cyclic).
@@ -222,12 +231,12 @@ private:
     /// face keys' indices moved after the inside ones.
     void storeKeysInsideFirst(BlockMesh& out)
     {
-        const std::vector<LocalKey>& inside = mIndex.insideKeys();
-        const std::vector<LocalKey>& face = mIndex.faceKeys();
-        out.insideCount = std::uint32_t(inside.size());
-        out.keys.reserve(inside.size() + face.size());
-        out.keys.assign(inside.begin(), inside.end());
-        out.keys.insert(out.keys.end(), face.begin(), face.end());
+        const LocalKey* inside = mIndex.insideKeys();
+        const LocalKey* face = mIndex.faceKeys();
+        out.insideCount = mIndex.insideCount();
+        out.keys.reserve(mIndex.insideCount() + mIndex.faceCount());
+        out.keys.assign(inside, inside + mIndex.insideCount());
+        out.keys.insert(out.keys.end(), face, face + mIndex.faceCount());
         // FACE_KEY + i becomes insideCount + i.
         const std::uint32_t shift = KeyIndex::FACE_KEY - out.insideCount;
         auto renumber = [&](auto& corners) {
@@ -250,8 +259,10 @@ private:
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
-        if (!mRuns.empty() && mOut->patches[mRuns.back().patch] == pair) return;
-        const auto it = std::find(mOut->patches.begin(), mOut->patches.end(), pair);
+        // Element by element: std::array's == calls memcmp.
+        auto isPair = [&pair](const LabelPair& p) { return p[0] == pair[0] && p[1] == pair[1]; };
+        if (!mRuns.empty() && isPair(mOut->patches[mRuns.back().patch])) return;
+        const auto it = std::find_if(mOut->patches.begin(), mOut->patches.end(), isPair);
         const auto patch = std::uint32_t(it - mOut->patches.begin());
         if (it == mOut->patches.end()) {
             mOut->patches.push_back(pair);
@@ -419,18 +430,23 @@ private:
                         }
                         continue;
                     }
-                    // A row along z inside a leaf is one byte of its value mask: visit only
-                    // its active voxels.
+                    // A slice across x of a leaf is one word of its value mask, and a row
+                    // along z in it one byte: visit only the active voxels of a row, and
+                    // skip slices without any.
                     const int z0 = cut[2][pz], zn = cut[2][pz + 1] - z0;
                     const int leafZ0 = (lo.z() + z0) & int(LeafT::DIM - 1);
                     const unsigned rowBits = (1u << zn) - 1u;
                     const Label* values = leaf->buffer().data();
                     for (int x = cut[0][px]; x < cut[0][px + 1]; ++x) {
+                        const int leafX = (lo.x() + x) & int(LeafT::DIM - 1);
+                        const std::uint64_t slice =
+                            leaf->getValueMask().template getWord<std::uint64_t>(leafX);
+                        if (slice == 0) continue;
                         for (int y = cut[1][py]; y < cut[1][py + 1]; ++y) {
-                            const openvdb::Index row = LeafT::coordToOffset(
-                                lo.offsetBy(x, y, z0)) >> 3;
-                            unsigned bits = (unsigned(leaf->getValueMask().template
-                                getWord<std::uint8_t>(row)) >> leafZ0) & rowBits;
+                            const int row = leafX * int(LeafT::DIM)
+                                + ((lo.y() + y) & int(LeafT::DIM - 1));
+                            unsigned bits =
+                                unsigned(slice >> (8 * (row & 7) + leafZ0)) & rowBits;
                             Label* dst = out + (x * s + y) * s + z0;
                             const Label* src = values + 8 * row + leafZ0;
                             for (; bits; bits &= bits - 1) {

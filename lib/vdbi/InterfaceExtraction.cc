@@ -284,30 +284,45 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     const auto* scale = dynamic_cast<const openvdb::math::ScaleMap*>(xform.baseMap().get());
     const auto* scaleTranslate =
         dynamic_cast<const openvdb::math::ScaleTranslateMap*>(xform.baseMap().get());
-    auto toWorld = [&](const openvdb::Vec3d& index) {
-        return scale ? scale->applyMap(index)
-            : scaleTranslate ? scaleTranslate->applyMap(index) : xform.indexToWorld(index);
-    };
-    forEachChunk(blockCount, options.threaded, interrupt,
-                 [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            BlockMesh& block = blocks[n];
-            const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
-                std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
-            // Its inside keys, then its face keys (BlockMesh::faceKeys).
-            for (std::size_t i = 0; i < block.ownedCount(); ++i) {
-                const LocalKey local = i < block.insideCount ? block.keys[i]
-                    : block.faceKeys[i - block.insideCount];
-                const VertexKey k = {base[0] + keyComponent(local, 0),
-                    base[1] + keyComponent(local, 1), base[2] + keyComponent(local, 2)};
-                const openvdb::Vec3d index(double(k[0]) / double(K) - 0.5,
-                    double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5);
-                mesh.points[vertexOffset[n] + i] = toWorld(index);
-                if (options.pointKeys) mesh.pointKeys[vertexOffset[n] + i] = k;
+    // One loop per kind of map: the map is chosen once, not per point.
+    auto writePoints = [&](const auto& toWorld) {
+        forEachChunk(blockCount, options.threaded, interrupt,
+                     [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t n = range.begin(); n < range.end(); ++n) {
+                BlockMesh& block = blocks[n];
+                const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
+                    std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
+                // Points [first, first + count) from local keys @a local.
+                auto write = [&](std::size_t first, const LocalKey* local, std::size_t count) {
+                    openvdb::Vec3d* points = mesh.points.data() + first;
+                    VertexKey* keys = options.pointKeys ? mesh.pointKeys.data() + first
+                                                        : nullptr;
+                    for (std::size_t i = 0; i < count; ++i) {
+                        const VertexKey k = {base[0] + keyComponent(local[i], 0),
+                            base[1] + keyComponent(local[i], 1),
+                            base[2] + keyComponent(local[i], 2)};
+                        points[i] = toWorld(openvdb::Vec3d(double(k[0]) / double(K) - 0.5,
+                            double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5));
+                        if (keys) keys[i] = k;
+                    }
+                };
+                // Its inside keys, then its face keys (BlockMesh::faceKeys).
+                write(vertexOffset[n], block.keys.data(), block.insideCount);
+                write(vertexOffset[n] + block.insideCount, block.faceKeys.data(),
+                      block.faceKeys.size());
+                block = BlockMesh();
             }
-            block = BlockMesh();
-        }
-    }, 8);
+        }, 8);
+    };
+    if (scale) {
+        writePoints([scale](const openvdb::Vec3d& index) { return scale->applyMap(index); });
+    } else if (scaleTranslate) {
+        writePoints([scaleTranslate](const openvdb::Vec3d& index) {
+            return scaleTranslate->applyMap(index);
+        });
+    } else {
+        writePoints([&xform](const openvdb::Vec3d& index) { return xform.indexToWorld(index); });
+    }
     interrupt.throwIfStopped("extraction");
     return mesh;
 }

@@ -5,6 +5,8 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cstring>
+#include <type_traits>
 
 namespace vdbi {
 
@@ -31,42 +33,87 @@ blockOrigins(const openvdb::Int32Tree& tree, bool threaded)
     return origins;
 }
 
+namespace {
+
+/// Window range of the part of each neighbour leaf the window overlaps, per axis: the last
+/// layer of the leaf below, all 8 of the block's leaf, the first layer of the leaf above.
+constexpr int FIRST[3] = {0, 1, LabelWindow::DIM - 1}, END[3] = {1, LabelWindow::DIM - 1,
+    LabelWindow::DIM};
+
+/// @brief Probes the 27 leaves around a block through the internal node that holds the block
+/// (which holds all of them for most blocks), and through @a acc only for the others.
+/// @details Leaf n lies at origin + 8 (n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1). @a visit(n,
+/// leaf, nodeOrAccessor, leafOrigin) is called for each; leaf is null where none is stored.
+template<typename AccessorT, typename Visit>
+void
+visitLeavesAround(AccessorT& acc, const openvdb::Coord& origin, const Visit& visit)
+{
+    using TreeT = std::remove_const_t<typename AccessorT::TreeType>;
+    using LeafT = typename TreeT::LeafNodeType;
+    using NodeT = typename TreeT::RootNodeType::ChildNodeType::ChildNodeType;
+    const NodeT* node = acc.template probeConstNode<NodeT>(origin);
+    const openvdb::Coord nodeMin = node ? node->origin() : origin;
+    int n = 0;
+    for (int lz = -1; lz <= 1; ++lz) {
+        for (int ly = -1; ly <= 1; ++ly) {
+            for (int lx = -1; lx <= 1; ++lx, ++n) {
+                const openvdb::Coord leafOrigin =
+                    origin.offsetBy(lx * BLOCK_DIM, ly * BLOCK_DIM, lz * BLOCK_DIM);
+                const openvdb::Coord d = leafOrigin - nodeMin;
+                if (node && unsigned(d.x()) < NodeT::DIM && unsigned(d.y()) < NodeT::DIM
+                    && unsigned(d.z()) < NodeT::DIM) {
+                    visit(n, node->probeConstLeaf(leafOrigin), *node, leafOrigin);
+                } else {
+                    const LeafT* leaf = acc.probeConstLeaf(leafOrigin);
+                    visit(n, leaf, acc, leafOrigin);
+                }
+            }
+        }
+    }
+}
+
+} // namespace
+
 void
 LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
 {
     using LeafT = openvdb::Int32Tree::LeafNodeType;
     mOrigin = origin;
-    const openvdb::Coord lo = origin.offsetBy(-1);
 
-    // The window overlaps the 3^3 leaves at offsets -8, 0, +8. Per column of three leaves
-    // along z, every window row takes its last voxel from the leaf below, eight straight from
-    // the middle leaf's buffer and its first from the leaf above; where no leaf is stored, the
-    // tile value or background, uniform over the leaf's extent.
-    for (int lx = -1; lx <= 1; ++lx) {
-        for (int ly = -1; ly <= 1; ++ly) {
-            const LeafT* leaf[3];
-            Label fill[3];
-            for (int lz = -1; lz <= 1; ++lz) {
-                const openvdb::Coord leafOrigin = origin.offsetBy(
-                    lx * BLOCK_DIM, ly * BLOCK_DIM, lz * BLOCK_DIM);
-                leaf[lz + 1] = acc.probeConstLeaf(leafOrigin);
-                fill[lz + 1] = leaf[lz + 1] ? 0 : acc.getValue(leafOrigin);
-            }
-            // Overlap of this column with the window, in window offsets along x and y.
-            const auto first = [](int l) { return l < 0 ? 0 : (l == 0 ? 1 : BLOCK_DIM + 1); };
-            const auto end = [](int l) { return l < 0 ? 1 : (l == 0 ? BLOCK_DIM + 1 : DIM); };
-            for (int x = first(lx); x < end(lx); ++x) {
-                for (int y = first(ly); y < end(ly); ++y) {
-                    Label* dst = mLabels + index(x, y, 0);
+    // Per leaf around the block, its values; where no leaf is stored, 8 copies of the tile
+    // value or background, which stand for every row of it (offset mask 0).
+    const Label* values[27];
+    openvdb::Index rowMask[27];
+    Label fill[27][BLOCK_DIM];
+    visitLeavesAround(acc, origin, [&](int n, const LeafT* leaf, auto& from,
+                                       const openvdb::Coord& leafOrigin) {
+        if (leaf) {
+            values[n] = leaf->buffer().data();
+            rowMask[n] = LeafT::SIZE - 1;
+        } else {
+            std::fill_n(fill[n], BLOCK_DIM, from.getValue(leafOrigin));
+            values[n] = fill[n];
+            rowMask[n] = 0;
+        }
+    });
+    // Per column of three leaves along z, every window row takes its last voxel from the
+    // leaf below, eight from the middle leaf and its first from the leaf above.
+    for (int ly = 0; ly < 3; ++ly) {
+        for (int lx = 0; lx < 3; ++lx) {
+            const int n = lx + 3 * ly;
+            const Label *below = values[n] + (BLOCK_DIM - 1), *middle = values[n + 9],
+                        *above = values[n + 18];
+            const openvdb::Index belowMask = rowMask[n], middleMask = rowMask[n + 9],
+                                 aboveMask = rowMask[n + 18];
+            for (int x = FIRST[lx]; x < END[lx]; ++x) {
+                for (int y = FIRST[ly]; y < END[ly]; ++y) {
                     // Buffer offset of (x, y, z = 0) in any leaf of the column.
-                    const openvdb::Index row = LeafT::coordToOffset(lo.offsetBy(x, y, 1));
-                    dst[0] = leaf[0] ? leaf[0]->buffer()[row + BLOCK_DIM - 1] : fill[0];
-                    if (leaf[1]) {
-                        std::copy_n(leaf[1]->buffer().data() + row, BLOCK_DIM, dst + 1);
-                    } else {
-                        std::fill_n(dst + 1, BLOCK_DIM, fill[1]);
-                    }
-                    dst[DIM - 1] = leaf[2] ? leaf[2]->buffer()[row] : fill[2];
+                    const openvdb::Index row =
+                        LeafT::coordToOffset(openvdb::Coord(x - 1, y - 1, 0));
+                    Label* dst = mLabels + index(x, y, 0);
+                    dst[0] = below[row & belowMask];
+                    std::copy_n(middle + (row & middleMask), BLOCK_DIM, dst + 1);
+                    dst[DIM - 1] = above[row & aboveMask];
                 }
             }
         }
@@ -96,20 +143,16 @@ MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
 {
     using LeafT = openvdb::MaskTree::LeafNodeType;
     bool any = false;
-    for (int n = 0; n < 27; ++n) {
-        const openvdb::Coord leafOrigin = origin.offsetBy((n % 3 - 1) * BLOCK_DIM,
-            ((n / 3) % 3 - 1) * BLOCK_DIM, (n / 9 - 1) * BLOCK_DIM);
-        mLeaves[n] = acc.probeConstLeaf(leafOrigin);
-        mTiles[n] = !mLeaves[n] && acc.isValueOn(leafOrigin);
-        any = any || mLeaves[n] || mTiles[n];
-    }
+    visitLeavesAround(acc, origin, [&](int n, const LeafT* leaf, auto& from,
+                                       const openvdb::Coord& leafOrigin) {
+        mLeaves[n] = leaf;
+        mTiles[n] = !leaf && from.isValueOn(leafOrigin);
+        any = any || leaf || mTiles[n];
+    });
     if (!any) return false;
-    // Window range and first leaf coordinate of the part of each neighbour leaf it
-    // overlaps, per axis: the last layer of the leaf below, all 8 of the block's leaf,
-    // the first layer of the leaf above.
-    static constexpr int FIRST[3] = {0, 1, DIM - 1}, END[3] = {1, DIM - 1, DIM},
-                         LEAF_FIRST[3] = {BLOCK_DIM - 1, 0, 0};
-    std::fill(std::begin(mOn), std::end(mOn), false);
+    // First leaf coordinate of the part of each neighbour leaf the window overlaps, per axis.
+    static constexpr int LEAF_FIRST[3] = {BLOCK_DIM - 1, 0, 0};
+    std::memset(mOn, 0, sizeof(mOn));
     for (int n = 0; n < 27; ++n) {
         if (!mLeaves[n] && !mTiles[n]) continue;
         const int px = n % 3, py = (n / 3) % 3, pz = n / 9;
@@ -132,7 +175,12 @@ MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
         }
     }
     for (int r = 0; r < DIM * DIM; ++r) {
-        mRowOn[r] = std::any_of(mOn + r * DIM, mOn + (r + 1) * DIM, [](bool on) { return on; });
+        // A row's 10 bools as 8 + 2 bytes.
+        std::uint64_t first8;
+        std::uint16_t last2;
+        std::memcpy(&first8, mOn + r * DIM, 8);
+        std::memcpy(&last2, mOn + r * DIM + 8, 2);
+        mRowOn[r] = (first8 | last2) != 0;
     }
     return true;
 }
