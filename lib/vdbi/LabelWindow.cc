@@ -43,7 +43,10 @@ constexpr int FIRST[3] = {0, 1, LabelWindow::DIM - 1}, END[3] = {1, LabelWindow:
 /// @brief Probes the 27 leaves around a block through the internal node that holds the block
 /// (which holds all of them for most blocks), and through @a acc only for the others.
 /// @details Leaf n lies at origin + 8 (n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1). @a visit(n,
-/// leaf, nodeOrAccessor, leafOrigin) is called for each; leaf is null where none is stored.
+/// leaf, tileValue, tileActive) is called for each; leaf is null where none is stored, and
+/// then the tile (or background) there gives the value and state. The tile is read from the
+/// node's table, not through getValue(), whose path into a child leaf GCC inlines and then
+/// warns about (-Wstringop-overflow) although no child is there.
 template<typename AccessorT, typename Visit>
 void
 visitLeavesAround(AccessorT& acc, const openvdb::Coord& origin, const Visit& visit)
@@ -62,10 +65,17 @@ visitLeavesAround(AccessorT& acc, const openvdb::Coord& origin, const Visit& vis
                 const openvdb::Coord d = leafOrigin - nodeMin;
                 if (node && unsigned(d.x()) < NodeT::DIM && unsigned(d.y()) < NodeT::DIM
                     && unsigned(d.z()) < NodeT::DIM) {
-                    visit(n, node->probeConstLeaf(leafOrigin), *node, leafOrigin);
+                    const LeafT* leaf = node->probeConstLeaf(leafOrigin);
+                    if (leaf) {
+                        visit(n, leaf, typename LeafT::ValueType(), false);
+                    } else {
+                        const openvdb::Index i = NodeT::coordToOffset(leafOrigin);
+                        visit(n, leaf, node->getTable()[i].getValue(), node->isValueMaskOn(i));
+                    }
                 } else {
                     const LeafT* leaf = acc.probeConstLeaf(leafOrigin);
-                    visit(n, leaf, acc, leafOrigin);
+                    if (leaf) visit(n, leaf, typename LeafT::ValueType(), false);
+                    else visit(n, leaf, acc.getValue(leafOrigin), acc.isValueOn(leafOrigin));
                 }
             }
         }
@@ -85,13 +95,12 @@ LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
     const Label* values[27];
     openvdb::Index rowMask[27];
     Label fill[27][BLOCK_DIM];
-    visitLeavesAround(acc, origin, [&](int n, const LeafT* leaf, auto& from,
-                                       const openvdb::Coord& leafOrigin) {
+    visitLeavesAround(acc, origin, [&](int n, const LeafT* leaf, Label tileValue, bool) {
         if (leaf) {
             values[n] = leaf->buffer().data();
             rowMask[n] = LeafT::SIZE - 1;
         } else {
-            std::fill_n(fill[n], BLOCK_DIM, from.getValue(leafOrigin));
+            std::fill_n(fill[n], BLOCK_DIM, tileValue);
             values[n] = fill[n];
             rowMask[n] = 0;
         }
@@ -143,10 +152,9 @@ MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
 {
     using LeafT = openvdb::MaskTree::LeafNodeType;
     bool any = false;
-    visitLeavesAround(acc, origin, [&](int n, const LeafT* leaf, auto& from,
-                                       const openvdb::Coord& leafOrigin) {
+    visitLeavesAround(acc, origin, [&](int n, const LeafT* leaf, bool, bool tileActive) {
         mLeaves[n] = leaf;
-        mTiles[n] = !leaf && from.isValueOn(leafOrigin);
+        mTiles[n] = !leaf && tileActive;
         any = any || leaf || mTiles[n];
     });
     if (!any) return false;
