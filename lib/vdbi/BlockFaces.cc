@@ -28,6 +28,7 @@ public:
         : mInsideMax(LocalKey(limit - 1))
     {
         resize(std::size_t(1) << 12);
+        reset();   // epoch 1: the cleared slots (epoch 0) are empty from the start
     }
 
     /// Starts a block: forgets the keys of the previous one.
