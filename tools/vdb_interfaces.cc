@@ -79,7 +79,7 @@ struct Settings
     std::vector<vdbi::Label> priority;
     std::vector<std::string> separate;
     double edgeLength = 0.0;
-    int iterations = 5;
+    int iterations = vdbi::Options().iterations;
     bool remesh = false;
     bool noRemesh = false;
     bool stats = false;
@@ -298,7 +298,8 @@ configure(CLI::App& app, Settings& s)
         ->type_name("X")
         ->check(POSITIVE_REAL);
     app.add_option("--iterations", s.iterations,
-        "--remesh: number of iterations, N >= 0\n(default: 5)")
+        "--remesh: number of iterations, N >= 0\n(default: "
+        + std::to_string(vdbi::Options().iterations) + ")")
         ->type_name("N")
         ->check(integerAtLeast(0));
     CLI::Option* remesh = app.add_flag("--remesh", s.remesh,
