@@ -184,6 +184,7 @@ MaskWindow::load(Accessor& acc, const openvdb::Coord& origin)
     }
     for (int r = 0; r < DIM * DIM; ++r) {
         // A row's 10 bools as 8 + 2 bytes.
+        static_assert(DIM == 10, "a window row is read as 8 + 2 bytes");
         std::uint64_t first8;
         std::uint16_t last2;
         std::memcpy(&first8, mOn + r * DIM, 8);
