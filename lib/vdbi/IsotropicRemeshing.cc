@@ -2,6 +2,8 @@
 
 #include <vdbi/IsotropicRemeshing.h>
 
+#include <vdbi/EdgeCollapse.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -131,13 +133,13 @@ private:
     int minValence(VertexHandle v) const { return mMesh.is_boundary(v) ? 2 : 3; }
     int valence(VertexHandle v) const
     {
-        return mValence.empty() ? int(mMesh.valence(v)) : mValence[v.idx()];
+        return mValence.empty() ? vertexValence(mMesh, v) : mValence[v.idx()];
     }
     void countValences()
     {
         mValence.assign(mMesh.n_vertices(), 0);
         for (const VertexHandle v : mMesh.vertices()) {
-            if (!mMesh.status(v).deleted()) mValence[v.idx()] = int(mMesh.valence(v));
+            if (!mMesh.status(v).deleted()) mValence[v.idx()] = vertexValence(mMesh, v);
         }
     }
     /// Smallest cosine between the reference normal at @a v and at its neighbours.
@@ -302,7 +304,7 @@ IsotropicRemesher::collapseEdge(HalfedgeHandle h, const Point& position)
     if (position != mMesh.point(kept)) {
         mChanged.insert(mChanged.end(), mMesh.vf_begin(kept), mMesh.vf_end(kept));
     }
-    mMesh.collapse(h);
+    vdbi::collapseEdge(mMesh, h);
     mMesh.set_point(kept, position);
     mFaces.assign(mMesh.vf_begin(kept), mMesh.vf_end(kept));
     recover(mChanged, mFaces);
@@ -357,7 +359,7 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
             if (w != v0 && (mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
         }
     }
-    if (!mMesh.is_collapse_ok(h)) return false;   // link condition: stays a 2-manifold
+    if (!isCollapseOk(mMesh, h)) return false;   // link condition: stays a 2-manifold
     // Keep every vertex at valence >= 3 inside (2 on the boundary): no degenerate fans, and a
     // closed component stops at a tetrahedron.
     if (valence(vl) - 1 < minValence(vl)) return false;
