@@ -89,7 +89,8 @@ public:
     }
 
     /// Every pair (first < second) of triangles of different patches (@a patchOf) sharing a
-    /// cell with at least one of them active, once each, sorted. Only the cells of active
+    /// cell with at least one of them active, once each, in an order fixed by the mesh (not
+    /// sorted: the pushes they cause add up in any order). Only the cells of active
     /// triangles are visited.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>
     candidatePairs(const std::vector<char>& active,
@@ -113,7 +114,6 @@ public:
                 }
             });
         }
-        std::sort(pairs.begin(), pairs.end());
         return pairs;
     }
 

@@ -36,7 +36,8 @@ struct SeparationSettings
 /// triangle's box widened by maxMove; a round tests only the pairs of triangles whose
 /// vertices moved in the round before. A move that would turn one of the
 /// vertex's triangles over, or take it farther than maxMove from its start, is not made.
-/// Serial, in sorted order: the result depends on the mesh alone.
+/// Serial; the pushes of a round add up before any vertex moves (in vertex order): the result
+/// depends on the mesh alone.
 /// @param mesh     [in,out] the remeshed patches
 /// @param movable  one flag per point: nonzero for a free (inner) vertex
 /// @return the number of crossing pairs left (of those looked at in the last round)
