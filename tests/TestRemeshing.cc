@@ -507,6 +507,65 @@ TEST_F(TestRemeshing, testSeparatePatches)
     EXPECT_EQ(mesh.points, before.points);
 }
 
+// Many copies of the crossing pair above, more than one parallel task's share: threaded and
+// serial separation move every corner the same, and no pair crosses afterwards.
+TEST_F(TestRemeshing, testSeparatePatchesThreaded)
+{
+    const std::uint32_t copies = 5000;
+    vdbi::InterfaceMesh mesh;
+    std::vector<std::uint8_t> movable;
+    const Vec3d corners[2][3] = {{Vec3d(0, 0, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0)},
+                                 {Vec3d(0, 0, 0), Vec3d(0.8, -1, 0.3), Vec3d(0.8, 1, -0.3)}};
+    for (int side = 0; side < 2; ++side) {
+        for (std::uint32_t k = 0; k < copies; ++k) {
+            const Vec3d offset(5.0 * (k % 100), 5.0 * (k / 100), 0.0);
+            const std::uint32_t first = std::uint32_t(mesh.points.size());
+            // The shared corner is the first copy's point of side 0.
+            const std::uint32_t shared = side == 0 ? first : 3 * k;
+            if (side == 0) {
+                mesh.points.push_back(corners[0][0] + offset);
+                movable.push_back(0);
+            }
+            for (int i = 1; i < 3; ++i) {
+                mesh.points.push_back(corners[side][i] + offset);
+                movable.push_back(1);
+            }
+            const std::uint32_t a = side == 0 ? first + 1 : first, b = a + 1;
+            mesh.triangles.push_back(openvdb::Vec3I(shared, a, b));
+        }
+    }
+    vdbi::InterfacePatch p01, p12;
+    p01.a = 0;
+    p01.b = 1;
+    p01.firstTriangle = 0;
+    p01.triangleCount = copies;
+    p12.a = 1;
+    p12.b = 2;
+    p12.firstTriangle = copies;
+    p12.triangleCount = copies;
+    mesh.patches = {p01, p12};
+    for (std::uint32_t k = 0; k < copies; k += 997) {
+        ASSERT_TRUE(vdbi_test::trianglesIntersect(mesh.points, mesh.triangles[k],
+                                                  mesh.triangles[copies + k]));
+    }
+
+    vdbi::SeparationSettings settings;
+    settings.cellSize = 1.0;
+    settings.step = 0.1;
+    settings.maxMove = 0.4;
+    vdbi::InterfaceMesh serial = mesh, threaded = mesh;
+    settings.threaded = false;
+    EXPECT_EQ(vdbi::separatePatches(serial, movable, settings), 0u);
+    settings.threaded = true;
+    EXPECT_EQ(vdbi::separatePatches(threaded, movable, settings), 0u);
+    EXPECT_EQ(serial.points, threaded.points);
+    EXPECT_NE(serial.points, mesh.points);
+    for (std::uint32_t k = 0; k < copies; ++k) {
+        ASSERT_FALSE(vdbi_test::trianglesIntersect(threaded.points, threaded.triangles[k],
+                                                   threaded.triangles[copies + k]));
+    }
+}
+
 // Labels of one to a few voxels inside others and on the outside keep closed surfaces
 // with their Euler characteristic; none of their patches disappears.
 TEST_F(TestRemeshing, testTinyLabels)

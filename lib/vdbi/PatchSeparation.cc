@@ -2,6 +2,10 @@
 
 #include <vdbi/PatchSeparation.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -62,62 +66,120 @@ trianglesCross(const PointArray& points, const openvdb::Vec3I& s,
     return false;
 }
 
+/// Calls @a body(begin, end) over [0, count) in fixed chunks, in parallel or not.
+template<typename Body>
+void
+forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& body)
+{
+    const std::size_t chunks = (count + chunk - 1) / chunk;
+    auto run = [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c < r.end(); ++c) {
+            body(c, c * chunk, std::min(count, (c + 1) * chunk));
+        }
+    };
+    const tbb::blocked_range<std::size_t> all(0, chunks, 1);
+    if (threaded) tbb::parallel_for(all, run);
+    else run(all);
+}
+
 /// @brief Triangles bucketed by the grid cells their bounding boxes overlap, built once.
 /// @details No vertex moves farther than a margin from where it was when the grid was built,
 /// so every box is widened by that margin: two triangles that can ever meet share a cell.
+/// Both ways are stored (the triangles of every cell, the cells of every triangle), so a
+/// round looks up no cell.
 class CandidateGrid
 {
 public:
-    CandidateGrid(const InterfaceMesh& mesh, double cellSize, double margin)
+    CandidateGrid(const InterfaceMesh& mesh, double cellSize, double margin, bool threaded)
         : mInverse(1.0 / cellSize)
     {
         const std::size_t count = mesh.triangles.size();
         mLow.resize(count);
         mHigh.resize(count);
-        for (std::uint32_t f = 0; f < count; ++f) {
-            const openvdb::Vec3I& t = mesh.triangles[f];
-            Vec3d lo = mesh.points[t[0]], hi = lo;
-            for (int i = 1; i < 3; ++i) {
-                lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
-                hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
+        mTriangleCellStart.assign(count + 1, 0);
+        forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t f = begin; f < end; ++f) {
+                const openvdb::Vec3I& t = mesh.triangles[f];
+                Vec3d lo = mesh.points[t[0]], hi = lo;
+                for (int i = 1; i < 3; ++i) {
+                    lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
+                    hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
+                }
+                mLow[f] = cell(lo - Vec3d(margin));
+                mHigh[f] = cell(hi + Vec3d(margin));
+                const openvdb::Vec3i size = mHigh[f] - mLow[f] + openvdb::Vec3i(1);
+                mTriangleCellStart[f + 1] = std::uint64_t(size[0]) * size[1] * size[2];
             }
-            mLow[f] = cell(lo - Vec3d(margin));
-            mHigh[f] = cell(hi + Vec3d(margin));
-            forEachCell(f, [&](std::uint64_t key) { mEntries.emplace_back(key, f); });
+        });
+        for (std::size_t f = 0; f < count; ++f) mTriangleCellStart[f + 1] += mTriangleCellStart[f];
+
+        // (cell key, triangle) of every cell a triangle's box overlaps, sorted: the pairs are
+        // unique, so the order does not depend on the sort.
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> entries(mTriangleCellStart[count]);
+        forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t f = begin; f < end; ++f) {
+                std::uint64_t j = mTriangleCellStart[f];
+                forEachCell(f, [&](std::uint64_t key) { entries[j++] = {key, std::uint32_t(f)}; });
+            }
+        });
+        if (threaded) tbb::parallel_sort(entries.begin(), entries.end());
+        else std::sort(entries.begin(), entries.end());
+
+        mCellTriangles.resize(entries.size());
+        mTriangleCells.resize(entries.size());
+        std::vector<std::uint64_t> fill(mTriangleCellStart.begin(), mTriangleCellStart.end() - 1);
+        for (std::size_t j = 0; j < entries.size(); ++j) {
+            if (j == 0 || entries[j].first != entries[j - 1].first) {
+                mCellKeys.push_back(entries[j].first);
+                mCellStart.push_back(j);
+            }
+            const std::uint32_t f = entries[j].second;
+            mCellTriangles[j] = f;
+            mTriangleCells[fill[f]++] = std::uint32_t(mCellKeys.size() - 1);
         }
-        std::sort(mEntries.begin(), mEntries.end());
+        mCellStart.push_back(entries.size());
     }
 
-    /// Every pair (first < second) of triangles of different patches (@a patchOf) sharing a
-    /// cell with at least one of them active, once each, in an order fixed by the mesh (not
-    /// sorted: the pushes they cause add up in any order). Only the cells of active
-    /// triangles are visited.
+    /// @brief Every pair (f < g) of crossing triangles of different patches (@a patchOf)
+    /// sharing a cell with at least one of them active, once each, ordered by f.
+    /// Only the cells of active triangles are visited.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>
-    candidatePairs(const std::vector<char>& active,
-                   const std::vector<std::uint32_t>& patchOf) const
+    crossingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
+                  const std::vector<std::uint32_t>& patchOf, bool threaded) const
     {
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-        for (std::uint32_t f = 0; f < active.size(); ++f) {
-            if (!active[f]) continue;
-            forEachCell(f, [&](std::uint64_t cellKey) {
-                auto it = std::lower_bound(mEntries.begin(), mEntries.end(),
-                                           std::make_pair(cellKey, std::uint32_t(0)));
-                for (; it != mEntries.end() && it->first == cellKey; ++it) {
-                    const std::uint32_t g = it->second;
-                    // Two active triangles: taken from the smaller one.
-                    if (patchOf[g] == patchOf[f] || (active[g] && g < f)) continue;
-                    // A pair sharing several cells is taken in the lowest one.
-                    openvdb::Vec3i lo;
-                    for (int k = 0; k < 3; ++k) lo[k] = std::max(mLow[f][k], mLow[g][k]);
-                    if (key(lo) != cellKey) continue;
-                    pairs.emplace_back(std::min(f, g), std::max(f, g));
+        const std::size_t count = active.size();
+        std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> perChunk(
+            (count + CHUNK - 1) / CHUNK);
+        forEachChunk(count, CHUNK, threaded, [&](std::size_t c, std::size_t begin, std::size_t end) {
+            for (std::uint32_t f = std::uint32_t(begin); f < end; ++f) {
+                if (!active[f]) continue;
+                for (std::uint64_t k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
+                    const std::uint32_t cellIndex = mTriangleCells[k];
+                    for (std::uint64_t j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
+                        const std::uint32_t g = mCellTriangles[j];
+                        // Two active triangles: taken from the smaller one.
+                        if (patchOf[g] == patchOf[f] || (active[g] && g < f)) continue;
+                        // A pair sharing several cells is taken in the lowest one.
+                        openvdb::Vec3i lo;
+                        for (int i = 0; i < 3; ++i) lo[i] = std::max(mLow[f][i], mLow[g][i]);
+                        if (key(lo) != mCellKeys[cellIndex]) continue;
+                        if (!trianglesCross(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
+                            continue;
+                        }
+                        perChunk[c].emplace_back(std::min(f, g), std::max(f, g));
+                    }
                 }
-            });
-        }
+            }
+        });
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+        for (const auto& chunk : perChunk) pairs.insert(pairs.end(), chunk.begin(), chunk.end());
         return pairs;
     }
 
 private:
+    /// Triangles per parallel task: the output is the same for any number of threads.
+    static constexpr std::size_t CHUNK = 4096;
+
     openvdb::Vec3i cell(const Vec3d& p) const
     {
         return openvdb::Vec3i(int(std::floor(p[0] * mInverse)), int(std::floor(p[1] * mInverse)),
@@ -130,7 +192,7 @@ private:
             | (std::uint64_t(c[2]) & mask);
     }
     template<typename Body>
-    void forEachCell(std::uint32_t f, const Body& body) const
+    void forEachCell(std::size_t f, const Body& body) const
     {
         for (int x = mLow[f][0]; x <= mHigh[f][0]; ++x) {
             for (int y = mLow[f][1]; y <= mHigh[f][1]; ++y) {
@@ -143,8 +205,13 @@ private:
 
     double mInverse;
     std::vector<openvdb::Vec3i> mLow, mHigh;
-    /// (cell key, triangle) of every cell a triangle's box overlaps, sorted.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> mEntries;
+    /// The cells, ascending by key: the triangles in cell c are mCellTriangles[mCellStart[c]
+    /// .. mCellStart[c + 1]), ascending.
+    std::vector<std::uint64_t> mCellKeys, mCellStart;
+    std::vector<std::uint32_t> mCellTriangles;
+    /// The cells of triangle f: mTriangleCells[mTriangleCellStart[f] .. [f + 1]), ascending.
+    std::vector<std::uint64_t> mTriangleCellStart;
+    std::vector<std::uint32_t> mTriangleCells;
 };
 
 } // namespace
@@ -180,12 +247,11 @@ separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     std::vector<std::uint32_t> pushed;
     std::vector<Vec3d> before;
     std::size_t crossing = 0;
-    const CandidateGrid grid(mesh, settings.cellSize, settings.maxMove);
+    const CandidateGrid grid(mesh, settings.cellSize, settings.maxMove, settings.threaded);
     for (int round = 0; round < settings.rounds; ++round) {
         crossing = 0;
         pushed.clear();
-        for (const auto& [f, g] : grid.candidatePairs(active, patchOf)) {
-            if (!trianglesCross(mesh.points, mesh.triangles[f], mesh.triangles[g])) continue;
+        for (const auto& [f, g] : grid.crossingPairs(mesh, active, patchOf, settings.threaded)) {
             ++crossing;
             const InterfacePatch &pf = mesh.patches[patchOf[f]], &pg = mesh.patches[patchOf[g]];
             Label shared;

@@ -23,6 +23,8 @@ struct SeparationSettings
     /// Distance a vertex moves per round, and the most it may move over all rounds.
     double step = 0.1, maxMove = 0.3;
     int rounds = 16;
+    /// Look for crossing pairs with TBB (the result is the same either way).
+    bool threaded = true;
 };
 
 /// @brief Moves inner vertices so that triangles of different patches cross less.
@@ -36,8 +38,8 @@ struct SeparationSettings
 /// triangle's box widened by maxMove; a round tests only the pairs of triangles whose
 /// vertices moved in the round before. A move that would turn one of the
 /// vertex's triangles over, or take it farther than maxMove from its start, is not made.
-/// Serial; the pushes of a round add up before any vertex moves (in vertex order): the result
-/// depends on the mesh alone.
+/// The crossing pairs are found in parallel; their pushes add up before any vertex moves, and
+/// vertices move serially in index order: the result depends on the mesh alone.
 /// @param mesh     [in,out] the remeshed patches
 /// @param movable  one flag per point: nonzero for a free (inner) vertex
 /// @return the number of crossing pairs left (of those looked at in the last round)

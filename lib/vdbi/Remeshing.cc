@@ -198,6 +198,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     separation.cellSize = options.edgeLength;
     separation.step = SEPARATION_STEP * smallestVoxel;
     separation.maxMove = SEPARATION_MOVE * smallestVoxel;
+    separation.threaded = options.threaded;
     separatePatches(out, movable, separation);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
