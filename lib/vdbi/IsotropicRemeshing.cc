@@ -445,7 +445,7 @@ IsotropicRemesher::collapseShortEdges()
     mValence.clear();
     // The first pass deletes most of the staircase: compact, so that no later loop steps
     // over the deleted elements (properties move along; nothing keeps handles across).
-    if (collapses > 0) mMesh.garbage_collection();
+    if (collapses > 0) collectGarbage(mMesh);
 }
 
 bool
