@@ -62,13 +62,25 @@ main(int argc, char** argv)
     bool check = false;
     std::string volume = vdbi_test::dataPath("frogtissue.mhd");
     std::vector<double> lengths;
+    auto usage = [&] {
+        std::fprintf(stderr, "usage: %s [--reps N] [--threads T] [--check] [--volume FILE] "
+                     "[LENGTH...]  (lengths in voxels, > 0; default 1 2 4)\n", argv[0]);
+        return 2;
+    };
     for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) return usage(), 0;
         if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--check")) check = true;
         else if (!std::strcmp(argv[i], "--volume") && i + 1 < argc) volume = argv[++i];
-        else lengths.push_back(std::atof(argv[i]));
+        else {
+            char* end = nullptr;
+            const double length = std::strtod(argv[i], &end);
+            if (end == argv[i] || *end != '\0' || !(length > 0.0)) return usage();
+            lengths.push_back(length);
+        }
     }
+    if (reps < 1) return usage();
     if (lengths.empty()) lengths = {1.0, 2.0, 4.0};
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0) {
