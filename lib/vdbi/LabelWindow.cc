@@ -121,7 +121,9 @@ LabelWindow::load(Accessor& acc, const openvdb::Coord& origin)
                         LeafT::coordToOffset(openvdb::Coord(x - 1, y - 1, 0));
                     Label* dst = mLabels + index(x, y, 0);
                     dst[0] = below[row & belowMask];
-                    std::copy_n(middle + (row & middleMask), BLOCK_DIM, dst + 1);
+                    // memcpy of a constant size inlines; std::copy_n here became a call to
+                    // memmove per row.
+                    std::memcpy(dst + 1, middle + (row & middleMask), BLOCK_DIM * sizeof(Label));
                     dst[DIM - 1] = above[row & aboveMask];
                 }
             }
