@@ -68,14 +68,27 @@ writeByPriority(LeafT& leaf, LeafT::NodeMaskType& written, const CoordBBox& box,
                          Coord::minComponent(box.max(), leaf.origin().offsetBy(LeafT::DIM - 1)));
     Label* values = leaf.buffer().data();
     auto& active = leaf.getValueMask();
+    // A row along z is one byte of a mask, bit z for voxel z: the run [min z, max z] of a
+    // row is marked written and active in one step, and where the pass has not written any
+    // voxel of it yet (the common case) its label needs no comparison.
+    const int zFirst = part.min().z() & int(LeafT::DIM - 1);
+    const int zCount = part.max().z() - part.min().z() + 1;
+    const auto run = std::uint8_t(((1u << zCount) - 1u) << zFirst);
     for (int x = part.min().x(); x <= part.max().x(); ++x) {
         for (int y = part.min().y(); y <= part.max().y(); ++y) {
-            openvdb::Index i = LeafT::coordToOffset(Coord(x, y, part.min().z()));
-            for (int z = part.min().z(); z <= part.max().z(); ++z, ++i) {
-                values[i] = written.isOn(i) ? priority.pick(values[i], label) : label;
-                written.setOn(i);
-                active.setOn(i);
+            const openvdb::Index row = LeafT::coordToOffset(Coord(x, y, 0));
+            std::uint8_t& writtenRow = written.template getWord<std::uint8_t>(row >> 3);
+            Label* rowValues = values + row;
+            if ((writtenRow & run) == 0) {
+                std::fill_n(rowValues + zFirst, zCount, label);
+            } else {
+                for (int z = zFirst; z < zFirst + zCount; ++z) {
+                    rowValues[z] = ((writtenRow >> z) & 1u) ? priority.pick(rowValues[z], label)
+                                                            : label;
+                }
             }
+            writtenRow |= run;
+            active.template getWord<std::uint8_t>(row >> 3) |= run;
         }
     }
 }
