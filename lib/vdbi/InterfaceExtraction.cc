@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
@@ -33,18 +34,18 @@ using extraction::keyComponent;
 std::vector<Coord>
 extractionBlocks(const RefinedLabels& labels, bool threaded)
 {
-    std::vector<Coord> origins = blockOrigins(labels.coarse->tree(), threaded);
+    std::vector<const openvdb::Int32Tree::LeafNodeType*> leaves;
+    labels.coarse->tree().getNodes(leaves);
     std::vector<const openvdb::MaskTree::LeafNodeType*> maskLeaves;
     labels.subdivided->tree().getNodes(maskLeaves);
-    for (const auto* leaf : maskLeaves) {
-        for (int n = 0; n < 8; ++n) {
-            origins.push_back(leaf->origin().offsetBy((n & 1) ? BLOCK_DIM : 0,
-                (n & 2) ? BLOCK_DIM : 0, (n & 4) ? BLOCK_DIM : 0));
-        }
-    }
-    std::sort(origins.begin(), origins.end());
+    std::vector<Coord> origins;
+    origins.reserve(leaves.size() + maskLeaves.size());
+    for (const auto* leaf : leaves) origins.push_back(leaf->origin());
+    for (const auto* leaf : maskLeaves) origins.push_back(leaf->origin());
+    if (threaded) tbb::parallel_sort(origins.begin(), origins.end());
+    else std::sort(origins.begin(), origins.end());
     origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
-    return origins;
+    return withPositiveNeighbours(origins);
 }
 
 /// Runs @a body(range) over chunks of [0, n), polling the interrupter once per chunk.
