@@ -138,6 +138,20 @@ Label lowerOf(std::uint64_t pair) { return Label(std::uint32_t(pair >> 32)); }
 Label upperOf(std::uint64_t pair) { return Label(std::uint32_t(pair)); }
 bool isDegenerate(std::uint64_t pair) { return lowerOf(pair) == upperOf(pair); }
 
+/// Bit k of the result: lower[k] != upper[k], for k < BLOCK_DIM.
+/// @details Written so that GCC vectorizes it: ORing in `flag ? bit[k] : 0` becomes compares,
+/// ands and an OR reduction, where `unsigned(flag) << k` needs a shift count per lane (not in
+/// SSE2). Out of line on purpose: inlined into a loop over the axes, the comparisons are
+/// unrolled before they can be vectorized, and scalar they cost three times as much.
+[[gnu::noinline]] unsigned
+differingVoxels(const Label* lower, const Label* upper)
+{
+    static constexpr unsigned BIT[BLOCK_DIM] = {1, 2, 4, 8, 16, 32, 64, 128};
+    unsigned bits = 0;
+    for (int k = 0; k < BLOCK_DIM; ++k) bits |= lower[k] != upper[k] ? BIT[k] : 0u;
+    return bits;
+}
+
 /// Emits the faces owned by the voxels of one block (face (v, a) is owned by voxel v).
 /// Probes use global coordinates, keys the block's local ones.
 class FaceWalker
@@ -206,16 +220,15 @@ public:
 
 private:
     /// The faces owned by the voxels (i, j, 0 .. 7) of the block when no subdivided voxel
-    /// touches them: coarse faces, found for the whole row at once (the compiler
-    /// vectorizes the comparisons along z; most voxels of a row own no face).
+    /// touches them: coarse faces, found for the whole row at once (differingVoxels(); most
+    /// voxels of a row own no face).
     void coarseRow(const LabelWindow& w, int i, int j, const openvdb::CoordBBox& owners)
     {
         const int first = LabelWindow::index(i + 1, j + 1, 1);
         const Label* upper = w.data() + first;
-        unsigned faces[3] = {0, 0, 0}; // bit k: voxel k owns a face along the axis
+        unsigned faces[3]; // bit k: voxel k owns a face along the axis
         for (int a = 0; a < 3; ++a) {
-            const Label* lower = upper - LabelWindow::STRIDE[a];
-            for (int k = 0; k < BLOCK_DIM; ++k) faces[a] |= unsigned(lower[k] != upper[k]) << k;
+            faces[a] = differingVoxels(upper - LabelWindow::STRIDE[a], upper);
         }
         for (unsigned any = faces[0] | faces[1] | faces[2]; any != 0; any &= any - 1) {
             const int k = int(openvdb::util::FindLowestOn(any));
