@@ -170,6 +170,7 @@ public:
               BlockMesh& out)
     {
         mOut = &out;
+        mPatchPair = 0;
         mIndex.reset();
         mCornerCount = 0;
         mRuns.clear();
@@ -214,6 +215,7 @@ public:
         }
         // Exact sizes: the blocks keep these until the end of the extraction.
         storeKeysInsideFirst(out);
+        closeRun();
         out.runs.assign(mRuns.begin(), mRuns.end());
         for (const PatchRun& run : mRuns) out.patchCounts[run.patch] += run.count;
     }
@@ -270,6 +272,16 @@ private:
     /// Makes (lower, upper) the patch of the next triangles; +axis points lower -> upper.
     void setPatch(Label lower, Label upper)
     {
+        // Most faces continue the patch and orientation of the face before.
+        const std::uint64_t pair = packPair(lower, upper);
+        if (pair == mPatchPair) return;
+        mPatchPair = pair;
+        startPatch(lower, upper);
+    }
+
+    /// setPatch() for another pair than the last one (out of line: it is rarely needed).
+    [[gnu::noinline]] void startPatch(Label lower, Label upper)
+    {
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
@@ -282,7 +294,18 @@ private:
             mOut->patches.push_back(pair);
             mOut->patchCounts.push_back(0);
         }
+        closeRun();
         mRuns.push_back(PatchRun{patch, 0});
+        mRunFirstCorner = mCornerCount;
+    }
+
+    /// Sets the triangle count of the last run, if any: runs are counted when they end, not
+    /// triangle by triangle.
+    void closeRun()
+    {
+        if (!mRuns.empty()) {
+            mRuns.back().count = std::uint32_t((mCornerCount - mRunFirstCorner) / 3);
+        }
     }
 
     /// Makes room for @a n more triangles, so that triangle() needs no check.
@@ -297,7 +320,6 @@ private:
     /// made by reserveTriangles()).
     void triangle(std::uint32_t p, std::uint32_t q, std::uint32_t r)
     {
-        ++mRuns.back().count;
         std::uint32_t* c = mCorners.data() + mCornerCount;
         c[0] = p;
         c[1] = mUp ? q : r;
@@ -636,6 +658,10 @@ private:
     std::vector<PatchRun> mRuns;
     BlockMesh* mOut = nullptr;
     bool mUp = true;
+    /// packPair(lower, upper) of the last setPatch(), or 0 (equal labels: no face) when the
+    /// block has no patch yet.
+    std::uint64_t mPatchPair = 0;
+    std::size_t mRunFirstCorner = 0; ///< mCornerCount when the last run began
 };
 
 } // namespace
