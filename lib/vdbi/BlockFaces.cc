@@ -138,6 +138,20 @@ Label lowerOf(std::uint64_t pair) { return Label(std::uint32_t(pair >> 32)); }
 Label upperOf(std::uint64_t pair) { return Label(std::uint32_t(pair)); }
 bool isDegenerate(std::uint64_t pair) { return lowerOf(pair) == upperOf(pair); }
 
+/// Bit k of the result: lower[k] != upper[k], for k < BLOCK_DIM.
+/// @details Written so that GCC vectorizes it: ORing in `flag ? bit[k] : 0` becomes compares,
+/// ands and an OR reduction, where `unsigned(flag) << k` needs a shift count per lane (not in
+/// SSE2). Out of line on purpose: inlined into a loop over the axes, the comparisons are
+/// unrolled before they can be vectorized, and scalar they cost three times as much.
+[[gnu::noinline]] unsigned
+differingVoxels(const Label* lower, const Label* upper)
+{
+    static constexpr unsigned BIT[BLOCK_DIM] = {1, 2, 4, 8, 16, 32, 64, 128};
+    unsigned bits = 0;
+    for (int k = 0; k < BLOCK_DIM; ++k) bits |= lower[k] != upper[k] ? BIT[k] : 0u;
+    return bits;
+}
+
 /// Emits the faces owned by the voxels of one block (face (v, a) is owned by voxel v).
 /// Probes use global coordinates, keys the block's local ones.
 class FaceWalker
@@ -156,6 +170,7 @@ public:
               BlockMesh& out)
     {
         mOut = &out;
+        mPatchPair = 0;
         mIndex.reset();
         mCornerCount = 0;
         mRuns.clear();
@@ -200,22 +215,22 @@ public:
         }
         // Exact sizes: the blocks keep these until the end of the extraction.
         storeKeysInsideFirst(out);
+        closeRun();
         out.runs.assign(mRuns.begin(), mRuns.end());
         for (const PatchRun& run : mRuns) out.patchCounts[run.patch] += run.count;
     }
 
 private:
     /// The faces owned by the voxels (i, j, 0 .. 7) of the block when no subdivided voxel
-    /// touches them: coarse faces, found for the whole row at once (the compiler
-    /// vectorizes the comparisons along z; most voxels of a row own no face).
+    /// touches them: coarse faces, found for the whole row at once (differingVoxels(); most
+    /// voxels of a row own no face).
     void coarseRow(const LabelWindow& w, int i, int j, const openvdb::CoordBBox& owners)
     {
         const int first = LabelWindow::index(i + 1, j + 1, 1);
         const Label* upper = w.data() + first;
-        unsigned faces[3] = {0, 0, 0}; // bit k: voxel k owns a face along the axis
+        unsigned faces[3]; // bit k: voxel k owns a face along the axis
         for (int a = 0; a < 3; ++a) {
-            const Label* lower = upper - LabelWindow::STRIDE[a];
-            for (int k = 0; k < BLOCK_DIM; ++k) faces[a] |= unsigned(lower[k] != upper[k]) << k;
+            faces[a] = differingVoxels(upper - LabelWindow::STRIDE[a], upper);
         }
         for (unsigned any = faces[0] | faces[1] | faces[2]; any != 0; any &= any - 1) {
             const int k = int(openvdb::util::FindLowestOn(any));
@@ -257,6 +272,16 @@ private:
     /// Makes (lower, upper) the patch of the next triangles; +axis points lower -> upper.
     void setPatch(Label lower, Label upper)
     {
+        // Most faces continue the patch and orientation of the face before.
+        const std::uint64_t pair = packPair(lower, upper);
+        if (pair == mPatchPair) return;
+        mPatchPair = pair;
+        startPatch(lower, upper);
+    }
+
+    /// setPatch() for another pair than the last one (out of line: it is rarely needed).
+    [[gnu::noinline]] void startPatch(Label lower, Label upper)
+    {
         // Patch (a, b) with a < b has its normal from a into b.
         mUp = lower < upper;
         const LabelPair pair = mUp ? LabelPair{lower, upper} : LabelPair{upper, lower};
@@ -269,7 +294,18 @@ private:
             mOut->patches.push_back(pair);
             mOut->patchCounts.push_back(0);
         }
+        closeRun();
         mRuns.push_back(PatchRun{patch, 0});
+        mRunFirstCorner = mCornerCount;
+    }
+
+    /// Sets the triangle count of the last run, if any: runs are counted when they end, not
+    /// triangle by triangle.
+    void closeRun()
+    {
+        if (!mRuns.empty()) {
+            mRuns.back().count = std::uint32_t((mCornerCount - mRunFirstCorner) / 3);
+        }
     }
 
     /// Makes room for @a n more triangles, so that triangle() needs no check.
@@ -284,7 +320,6 @@ private:
     /// made by reserveTriangles()).
     void triangle(std::uint32_t p, std::uint32_t q, std::uint32_t r)
     {
-        ++mRuns.back().count;
         std::uint32_t* c = mCorners.data() + mCornerCount;
         c[0] = p;
         c[1] = mUp ? q : r;
@@ -623,6 +658,10 @@ private:
     std::vector<PatchRun> mRuns;
     BlockMesh* mOut = nullptr;
     bool mUp = true;
+    /// packPair(lower, upper) of the last setPatch(), or 0 (equal labels: no face) when the
+    /// block has no patch yet.
+    std::uint64_t mPatchPair = 0;
+    std::size_t mRunFirstCorner = 0; ///< mCornerCount when the last run began
 };
 
 } // namespace

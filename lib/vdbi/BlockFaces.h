@@ -7,6 +7,7 @@
 #ifndef VDBI_BLOCK_FACES_HAS_BEEN_INCLUDED
 #define VDBI_BLOCK_FACES_HAS_BEEN_INCLUDED
 
+#include <vdbi/InterfaceMesh.h> // for DefaultInitAllocator
 #include <vdbi/LabelWindow.h>
 #include <vdbi/RefinedLabels.h>
 
@@ -38,6 +39,11 @@ keyComponent(LocalKey k, int axis)
     return int((k >> (16 - 8 * axis)) & 0xFFu);
 }
 
+/// A vector whose resize() leaves new elements uninitialized: for the arrays of a block that
+/// are sized and then written in full, where zeroing them first is wasted work.
+template<typename T>
+using UninitializedVector = std::vector<T, DefaultInitAllocator<T>>;
+
 /// Consecutive triangles of a block in one patch.
 struct PatchRun
 {
@@ -55,8 +61,8 @@ struct BlockMesh
     std::uint32_t insideCount = 0;
     /// 3 per triangle: indices into keys, in 16 bits when there are at most 2^16 keys (nearly
     /// every block: half the memory), else in 32; the other vector is empty.
-    std::vector<std::uint16_t> corners16;
-    std::vector<std::uint32_t> corners32;
+    UninitializedVector<std::uint16_t> corners16;
+    UninitializedVector<std::uint32_t> corners32;
     std::vector<LabelPair> patches;         ///< distinct label pairs, in order of first use
     std::vector<PatchRun> runs;             ///< the triangles in order, patch by patch
     std::vector<std::size_t> patchCounts;   ///< triangles per entry of patches
@@ -67,7 +73,7 @@ struct BlockMesh
     std::array<std::vector<std::uint32_t>, 8> byOwner;
     /// Per face key (index into keys minus insideCount): its number at its owner (set by the
     /// owner).
-    std::vector<std::uint32_t> rank;
+    UninitializedVector<std::uint32_t> rank;
     /// The face keys this block numbers, after its inside keys: those on its min faces (its
     /// own and its neighbours'), sorted.
     std::vector<LocalKey> faceKeys;

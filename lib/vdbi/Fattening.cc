@@ -68,14 +68,27 @@ writeByPriority(LeafT& leaf, LeafT::NodeMaskType& written, const CoordBBox& box,
                          Coord::minComponent(box.max(), leaf.origin().offsetBy(LeafT::DIM - 1)));
     Label* values = leaf.buffer().data();
     auto& active = leaf.getValueMask();
+    // A row along z is one byte of a mask, bit z for voxel z: the run [min z, max z] of a
+    // row is marked written and active in one step, and where the pass has not written any
+    // voxel of it yet (the common case) its label needs no comparison.
+    const int zFirst = part.min().z() & int(LeafT::DIM - 1);
+    const int zCount = part.max().z() - part.min().z() + 1;
+    const auto run = std::uint8_t(((1u << zCount) - 1u) << zFirst);
     for (int x = part.min().x(); x <= part.max().x(); ++x) {
         for (int y = part.min().y(); y <= part.max().y(); ++y) {
-            openvdb::Index i = LeafT::coordToOffset(Coord(x, y, part.min().z()));
-            for (int z = part.min().z(); z <= part.max().z(); ++z, ++i) {
-                values[i] = written.isOn(i) ? priority.pick(values[i], label) : label;
-                written.setOn(i);
-                active.setOn(i);
+            const openvdb::Index row = LeafT::coordToOffset(Coord(x, y, 0));
+            std::uint8_t& writtenRow = written.template getWord<std::uint8_t>(row >> 3);
+            Label* rowValues = values + row;
+            if ((writtenRow & run) == 0) {
+                std::fill_n(rowValues + zFirst, zCount, label);
+            } else {
+                for (int z = zFirst; z < zFirst + zCount; ++z) {
+                    rowValues[z] = ((writtenRow >> z) & 1u) ? priority.pick(rowValues[z], label)
+                                                            : label;
+                }
             }
+            writtenRow |= run;
+            active.template getWord<std::uint8_t>(row >> 3) |= run;
         }
     }
 }
@@ -181,13 +194,20 @@ dropUnchanged(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, int s,
                 }
             }
         }
-        auto& active = leaf.getValueMask();
         const Label* values = leaf.buffer().data();
-        for (auto it = active.beginOn(); it; ++it) {
-            const Coord xyz = LeafT::offsetToLocalCoord(it.pos());
-            const Label c = under[(cell[0][xyz.x()] * span[1] + cell[1][xyz.y()]) * span[2]
-                                  + cell[2][xyz.z()]];
-            if (values[it.pos()] == c) active.setOff(it.pos());
+        // The value mask one x slice at a time, a 64-bit word with bit 8y + z for voxel
+        // (x, y, z): its active voxels by bit scans, cleared in one store (a mask iterator
+        // cost a call per active voxel).
+        for (int x = 0; x < DIM; ++x) {
+            std::uint64_t& slice = leaf.getValueMask().template getWord<std::uint64_t>(x);
+            std::uint64_t changed = slice;
+            for (std::uint64_t bits = slice; bits != 0; bits &= bits - 1) {
+                const int yz = int(openvdb::util::FindLowestOn(bits));
+                const Label c = under[(cell[0][x] * span[1] + cell[1][yz >> 3]) * span[2]
+                                      + cell[2][yz & (DIM - 1)]];
+                if (values[x * DIM * DIM + yz] == c) changed &= ~(std::uint64_t(1) << yz);
+            }
+            slice = changed;
         }
     }, threaded);
     openvdb::tools::pruneInactive(fine, threaded);

@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
@@ -33,18 +34,18 @@ using extraction::keyComponent;
 std::vector<Coord>
 extractionBlocks(const RefinedLabels& labels, bool threaded)
 {
-    std::vector<Coord> origins = blockOrigins(labels.coarse->tree(), threaded);
+    std::vector<const openvdb::Int32Tree::LeafNodeType*> leaves;
+    labels.coarse->tree().getNodes(leaves);
     std::vector<const openvdb::MaskTree::LeafNodeType*> maskLeaves;
     labels.subdivided->tree().getNodes(maskLeaves);
-    for (const auto* leaf : maskLeaves) {
-        for (int n = 0; n < 8; ++n) {
-            origins.push_back(leaf->origin().offsetBy((n & 1) ? BLOCK_DIM : 0,
-                (n & 2) ? BLOCK_DIM : 0, (n & 4) ? BLOCK_DIM : 0));
-        }
-    }
-    std::sort(origins.begin(), origins.end());
+    std::vector<Coord> origins;
+    origins.reserve(leaves.size() + maskLeaves.size());
+    for (const auto* leaf : leaves) origins.push_back(leaf->origin());
+    for (const auto* leaf : maskLeaves) origins.push_back(leaf->origin());
+    if (threaded) tbb::parallel_sort(origins.begin(), origins.end());
+    else std::sort(origins.begin(), origins.end());
     origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
-    return origins;
+    return withPositiveNeighbours(origins);
 }
 
 /// Runs @a body(range) over chunks of [0, n), polling the interrupter once per chunk.
@@ -75,7 +76,7 @@ handOverDirection(LocalKey k, int limit)
 template<typename Index>
 void
 scatterTriangles(const BlockMesh& block, const Index* corner,
-                 const std::vector<std::uint32_t>& global, std::vector<std::size_t> start,
+                 const std::uint32_t* global, std::vector<std::size_t> start,
                  InterfaceMesh& mesh)
 {
     for (const PatchRun& run : block.runs) {
@@ -129,6 +130,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         auto window = std::make_unique<LabelWindow>();
         auto mask = std::make_unique<MaskWindow>();
         extraction::BlockFaceWalker walker(labels);
+        std::vector<std::uint8_t> owner; // per face key of a block: handOverDirection()
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
             // Blocks outside the owner box emit nothing but still number their keys.
             if (!options.ownerBox.empty() && !options.ownerBox.hasOverlap(
@@ -140,11 +142,20 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             BlockMesh& block = blocks[n];
             walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
             // Keys inside the block are its alone, numbered in their order; the face keys by
-            // their owners, in step 2.
-            block.rank.resize(block.keys.size() - block.insideCount);
-            for (std::size_t i = block.insideCount; i < block.keys.size(); ++i) {
-                block.byOwner[handOverDirection(block.keys[i], limit)].push_back(
-                    std::uint32_t(i));
+            // their owners, in step 2. The owners' lists are sized first: grown key by key,
+            // they cost an allocation per doubling.
+            const std::size_t faceCount = block.keys.size() - block.insideCount;
+            block.rank.resize(faceCount);
+            owner.resize(faceCount);
+            std::size_t ownerCount[8] = {};
+            for (std::size_t f = 0; f < faceCount; ++f) {
+                owner[f] = std::uint8_t(handOverDirection(block.keys[block.insideCount + f],
+                                                          limit));
+                ++ownerCount[owner[f]];
+            }
+            for (int d = 0; d < 8; ++d) block.byOwner[d].reserve(ownerCount[d]);
+            for (std::size_t f = 0; f < faceCount; ++f) {
+                block.byOwner[owner[f]].push_back(std::uint32_t(block.insideCount + f));
             }
         }
     }, 4);
@@ -239,7 +250,8 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     std::atomic<bool> lostKey{false};
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<std::uint32_t> global;
+        // Every key of a block gets its global index before the triangles read it.
+        extraction::UninitializedVector<std::uint32_t> global;
         for (std::size_t n = range.begin(); n < range.end(); ++n) {
             const BlockMesh& block = blocks[n];
             global.resize(block.keys.size());
@@ -260,9 +272,9 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                 }
             }
             if (block.corners32.empty()) {
-                scatterTriangles(block, block.corners16.data(), global, start[n], mesh);
+                scatterTriangles(block, block.corners16.data(), global.data(), start[n], mesh);
             } else {
-                scatterTriangles(block, block.corners32.data(), global, start[n], mesh);
+                scatterTriangles(block, block.corners32.data(), global.data(), start[n], mesh);
             }
             // Only the keys the block numbers are read again: free the rest here, in
             // parallel, rather than all at once at the end.

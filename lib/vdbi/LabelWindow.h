@@ -26,6 +26,10 @@ constexpr int BLOCK_DIM = 8;
 /// @param tree  a tree whose tiles hold only the background (see voxelizedLabels())
 std::vector<openvdb::Coord> blockOrigins(const openvdb::Int32Tree& tree, bool threaded);
 
+/// @brief The block origins @a leafOrigins (sorted, distinct) and those of their neighbours
+/// at +8 along any combination of axes, sorted and distinct.
+std::vector<openvdb::Coord> withPositiveNeighbours(const std::vector<openvdb::Coord>& leafOrigins);
+
 /// @brief The labels of voxels [origin - 1, origin + BLOCK_DIM] (10^3), read leaf by leaf.
 class LabelWindow
 {
