@@ -66,7 +66,8 @@ trianglesCross(const PointArray& points, const openvdb::Vec3I& s,
     return false;
 }
 
-/// Calls @a body(begin, end) over [0, count) in fixed chunks, in parallel or not.
+/// Calls @a body(c, begin, end) for chunk c = [begin, end) of [0, count) in chunks of fixed
+/// size, in parallel or not.
 template<typename Body>
 void
 forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& body)
@@ -140,9 +141,10 @@ public:
         mCellStart.push_back(entries.size());
     }
 
-    /// @brief Every pair (f < g) of crossing triangles of different patches (@a patchOf)
-    /// sharing a cell with at least one of them active, once each, ordered by f.
-    /// Only the cells of active triangles are visited.
+    /// @brief Every pair (first < second) of crossing triangles of different patches
+    /// (@a patchOf) sharing a cell with at least one of them active, once each, in the order
+    /// of the active triangle they were found from. Only the cells of active triangles are
+    /// visited.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>
     crossingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
                   const std::vector<std::uint32_t>& patchOf, bool threaded) const
@@ -150,12 +152,12 @@ public:
         const std::size_t count = active.size();
         std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> perChunk(
             (count + CHUNK - 1) / CHUNK);
-        forEachChunk(count, CHUNK, threaded, [&](std::size_t c, std::size_t begin, std::size_t end) {
+        auto search = [&](std::size_t c, std::size_t begin, std::size_t end) {
             for (std::uint32_t f = std::uint32_t(begin); f < end; ++f) {
                 if (!active[f]) continue;
-                for (std::uint64_t k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
+                for (auto k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
                     const std::uint32_t cellIndex = mTriangleCells[k];
-                    for (std::uint64_t j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
+                    for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
                         const std::uint32_t g = mCellTriangles[j];
                         // Two active triangles: taken from the smaller one.
                         if (patchOf[g] == patchOf[f] || (active[g] && g < f)) continue;
@@ -170,7 +172,8 @@ public:
                     }
                 }
             }
-        });
+        };
+        forEachChunk(count, CHUNK, threaded, search);
         std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
         for (const auto& chunk : perChunk) pairs.insert(pairs.end(), chunk.begin(), chunk.end());
         return pairs;
