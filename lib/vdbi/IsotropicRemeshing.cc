@@ -644,8 +644,8 @@ IsotropicRemesher::projectToReference()
             && (n | normals[c.idx()]) > 0.0;
     };
     // A face whose points all lie within the bound of the face itself passes at every
-    // corner: remembered until a corner steps back, so a face is measured about once a
-    // round, not once per corner.
+    // corner: the answer (1 close, 2 not, 0 not measured) is remembered until a corner steps
+    // back, so a face is measured about once a round, not once per corner.
     std::vector<char> closeToItself(mMesh.n_faces(), 0);
     auto isCloseToItself = [&](FaceHandle f, const Triangle& t) {
         for (int i = mMesh.property(mFirstCovered, f); i != 0; i = mNextCovered[i - 1]) {
@@ -672,8 +672,8 @@ IsotropicRemesher::projectToReference()
                     break;
                 }
                 char& close = closeToItself[f.idx()];
-                if (!close) close = isCloseToItself(f, mTriangles.back());
-                if (close) continue;
+                if (!close) close = isCloseToItself(f, mTriangles.back()) ? 1 : 2;
+                if (close == 1) continue;
                 std::swap(mFaces[unsure], mFaces.back());
                 std::swap(mTriangles[unsure], mTriangles.back());
                 ++unsure;
