@@ -103,10 +103,13 @@ disjointTrianglesIntersect(const Vec3d s[3], const Vec3d t[3])
 }
 
 /// Is direction d in the closed planar cone spanned by e1, e2 (normal n = e1 x e2)?
+/// The last test keeps d off the opposite cone: it needs the bisector, e1 + e2 is not one
+/// when the edges differ in length (a wide cone then missed directions near its short edge).
 bool
 inCone(const Vec3d& d, const Vec3d& e1, const Vec3d& e2, const Vec3d& n)
 {
-    return e1.cross(d).dot(n) >= 0.0 && d.cross(e2).dot(n) >= 0.0 && d.dot(e1 + e2) > 0.0;
+    return e1.cross(d).dot(n) >= 0.0 && d.cross(e2).dot(n) >= 0.0
+        && d.dot(e1 / e1.length() + e2 / e2.length()) > 0.0;
 }
 
 /// Is direction d strictly inside the 2D cone from e1 to e2 (either orientation)?
