@@ -45,10 +45,13 @@ struct RemeshSettings
 /// face keeps a list of the reference points nearest to it, so the bound holds against the
 /// fixed reference, not the mesh of the step before); a collapse turns no triangle over
 /// (against its own old normal), a flip or projection folds none against the reference
-/// normals; no relaxation move drags a vertex across a crease, and a vertex on a folded
-/// triangle relaxes to the mean of its neighbours (unfolding what attaching the samples
-/// folded). So the patch
-/// keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
+/// normals; no collapse, flip or move (relaxation with projection) makes the triangles it
+/// changes cross each other or the faces around more often than the ones they replace did
+/// (TriangleCrossing.h; only where neighbours turn by over 120 degrees or a fan winds
+/// twice, and in the first round's collapses, from the staircase, against the faces across
+/// the fan's edges only); no relaxation move drags a vertex across a crease, and a vertex
+/// on a folded triangle relaxes to the mean of its neighbours (unfolding what attaching the
+/// samples folded). So the patch keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
 /// depends on the patch alone.
 /// @return false if the interrupter asked to stop (the patch is then unfinished)
 bool remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,

@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/TriangleCrossing.h>
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace vdbi {
+
+namespace {
+
+using Point = TriMesh::Point;
+
+/// Cosine of the turn beyond which two triangles sharing an edge lie folded onto each other.
+constexpr double FOLD_COS = -0.99619469809174553;   // cos(175 degrees)
+
+/// Six times the signed volume of tetrahedron (a, b, c, d).
+inline double
+orient(const Point& a, const Point& b, const Point& c, const Point& d)
+{
+    return ((b - a) % (c - a)) | (d - a);
+}
+
+/// Are @a a and @a b strictly on opposite sides of zero?
+inline bool
+opposite(double a, double b)
+{
+    return (a > 0.0 && b < 0.0) || (a < 0.0 && b > 0.0);
+}
+
+/// Are all three strictly on one side of zero?
+inline bool
+oneSide(const double (&h)[3])
+{
+    return (h[0] > 0.0 && h[1] > 0.0 && h[2] > 0.0) || (h[0] < 0.0 && h[1] < 0.0 && h[2] < 0.0);
+}
+
+/// Does segment pq, whose ends lie @a dp and @a dq above the plane of @a t (in units of its
+/// normal), pass through the inside of @a t (touching does not count)?
+inline bool
+segmentCrossesTriangle(const Point& p, const Point& q, double dp, double dq,
+                       const CornerTriangle& t)
+{
+    if (!opposite(dp, dq)) return false;
+    const double o[3] = {orient(p, q, t.p[0], t.p[1]), orient(p, q, t.p[1], t.p[2]),
+                         orient(p, q, t.p[2], t.p[0])};
+    return oneSide(o);
+}
+
+inline bool
+segmentCrossesTriangle(const Point& p, const Point& q, const CornerTriangle& t)
+{
+    return segmentCrossesTriangle(p, q, t.normal | (p - t.p[0]), t.normal | (q - t.p[0]), t);
+}
+
+/// > 0 when x is to the left of a -> b seen from the tip of @a n (in a plane normal to n).
+inline double
+side(const Point& n, const Point& a, const Point& b, const Point& x)
+{
+    return ((b - a) % (x - a)) | n;
+}
+
+/// Is x strictly inside triangle t of the plane normal to @a n (either orientation)?
+inline bool
+insideInPlane(const Point& n, const CornerTriangle& t, const Point& x)
+{
+    const double d[3] = {side(n, t.p[0], t.p[1], x), side(n, t.p[1], t.p[2], x),
+                         side(n, t.p[2], t.p[0], x)};
+    return oneSide(d);
+}
+
+/// Do segments ab and cd of the plane normal to @a n cross at a point inside both?
+inline bool
+segmentsCrossInPlane(const Point& n, const Point& a, const Point& b, const Point& c,
+                     const Point& d)
+{
+    return opposite(side(n, a, b, c), side(n, a, b, d))
+        && opposite(side(n, c, d, a), side(n, c, d, b));
+}
+
+/// Is direction x strictly inside the angle from u to w, turning counter-clockwise about @a n
+/// (an angle under 180 degrees)?
+inline bool
+insideAngle(const Point& n, const Point& u, const Point& w, const Point& x)
+{
+    return ((u % x) | n) > 0.0 && ((x % w) | n) > 0.0;
+}
+
+/// Do @a s and @a t, one plane, sharing corner s.p[si] = t.p[ti], overlap near it?
+bool
+anglesOverlap(const CornerTriangle& s, int si, const CornerTriangle& t, int ti)
+{
+    // s turns counter-clockwise about its normal from b to c; t from e to f, or from f to e
+    // if it faces the other way.
+    const Point& a = s.p[si];
+    const Point b = s.p[(si + 1) % 3] - a, c = s.p[(si + 2) % 3] - a;
+    const Point e = t.p[(ti + 1) % 3] - a, f = t.p[(ti + 2) % 3] - a;
+    const Point& n = s.normal;
+    const bool same = (t.normal | n) > 0.0;
+    const Point u = same ? e : f, w = same ? f : e;
+    const Point bisectorS = b.normalized() + c.normalized();
+    const Point bisectorT = u.normalized() + w.normalized();
+    return insideAngle(n, b, c, u) || insideAngle(n, b, c, w) || insideAngle(n, u, w, b)
+        || insideAngle(n, u, w, c) || insideAngle(n, b, c, bisectorT)
+        || insideAngle(n, u, w, bisectorS);
+}
+
+/// Do @a s and @a t, one plane, sharing no corner, overlap?
+bool
+trianglesOverlapInPlane(const CornerTriangle& s, const CornerTriangle& t)
+{
+    const Point& n = s.normal;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (segmentsCrossInPlane(n, s.p[i], s.p[(i + 1) % 3], t.p[j], t.p[(j + 1) % 3])) {
+                return true;
+            }
+        }
+    }
+    // No edges cross: one inside the other, or both the same (then a centroid is inside).
+    const Point cs = (s.p[0] + s.p[1] + s.p[2]) / 3.0, ct = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
+    for (const Point& x : {t.p[0], t.p[1], t.p[2], ct}) {
+        if (insideInPlane(n, s, x)) return true;
+    }
+    for (const Point& x : {s.p[0], s.p[1], s.p[2], cs}) {
+        if (insideInPlane(n, t, x)) return true;
+    }
+    return false;
+}
+
+} // namespace
+
+bool
+trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
+{
+    for (int k = 0; k < 3; ++k) {
+        if (s.high[k] < t.low[k] || t.high[k] < s.low[k]) return false;
+    }
+    int shared = 0, si = -1, ti = -1;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (s.id[i] == t.id[j]) {
+                ++shared;
+                si = i;
+                ti = j;
+            }
+        }
+    }
+    if (shared == 3) return true;
+    if (shared == 2) {
+        const double d = s.normal | t.normal;
+        return d < 0.0 && d * d > FOLD_COS * FOLD_COS * s.normal.sqrnorm() * t.normal.sqrnorm();
+    }
+    if (shared == 1) {
+        const Point &b = s.p[(si + 1) % 3], &c = s.p[(si + 2) % 3];
+        const Point &e = t.p[(ti + 1) % 3], &f = t.p[(ti + 2) % 3];
+        const double de = s.normal | (e - s.p[0]), df = s.normal | (f - s.p[0]);
+        if (de == 0.0 && df == 0.0) return anglesOverlap(s, si, t, ti);
+        // Only the edges opposite the shared corner can meet the other triangle elsewhere.
+        return segmentCrossesTriangle(e, f, de, df, s) || segmentCrossesTriangle(b, c, t);
+    }
+    double o[3], r[3];   // heights of t's corners over s, and of s's over t
+    for (int i = 0; i < 3; ++i) o[i] = s.normal | (t.p[i] - s.p[0]);
+    if (oneSide(o)) return false;
+    if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) return trianglesOverlapInPlane(s, t);
+    for (int i = 0; i < 3; ++i) r[i] = t.normal | (s.p[i] - t.p[0]);
+    if (oneSide(r)) return false;
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        if (segmentCrossesTriangle(s.p[i], s.p[j], r[i], r[j], t)
+            || segmentCrossesTriangle(t.p[i], t.p[j], o[i], o[j], s)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+int
+countCrossings(const std::vector<CornerTriangle>& changed,
+               const std::vector<CornerTriangle>& around, const std::vector<char>* suspect)
+{
+    int count = 0;
+    for (std::size_t i = 0; i < changed.size(); ++i) {
+        if (suspect && !(*suspect)[i]) continue;
+        for (const CornerTriangle& t : around) count += trianglesCross(changed[i], t);
+        // Each pair once: j < i only if j is not tested on its own.
+        for (std::size_t j = 0; j < changed.size(); ++j) {
+            if (j == i || (j < i && (!suspect || (*suspect)[j]))) continue;
+            count += trianglesCross(changed[i], changed[j]);
+        }
+    }
+    return count;
+}
+
+bool
+looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTriangle>& outer,
+              const std::vector<int>& outerOf, int centre, double turnCos,
+              std::vector<char>& suspect)
+{
+    auto isSharp = [turnCos](const Point& n, const Point& m) {
+        const double d = n | m, bound = turnCos * turnCos * n.sqrnorm() * m.sqrnorm();
+        return turnCos >= 0.0 ? !(d > 0.0 && d * d > bound) : d < 0.0 && d * d >= bound;
+    };
+    const std::size_t count = fan.size();
+    suspect.assign(count, 0);
+    bool unfolded = true;
+    auto compare = [&](std::size_t i, std::size_t j) {
+        if (!isSharp(fan[i].normal, fan[j].normal)) return;
+        suspect[i] = suspect[j] = 1;
+        unfolded = false;
+    };
+    // Triangle i is (centre, ring[i].first, ring[i].second) counter-clockwise; the one after
+    // it around the centre starts with ring[i].second.
+    thread_local std::vector<std::pair<int, int>> ring;
+    std::size_t first = 0;   // a triangle no other comes before (at a boundary, the first)
+    if (centre >= 0) {
+        ring.resize(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            const CornerTriangle& t = fan[i];
+            const int k = t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
+            ring[i] = {t.id[(k + 1) % 3], t.id[(k + 2) % 3]};
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            bool hasPrevious = false;
+            for (std::size_t j = 0; j < count; ++j) {
+                if (j == i) continue;
+                if (ring[i].second == ring[j].first) compare(i, j);
+                hasPrevious = hasPrevious || ring[j].second == ring[i].first;
+            }
+            if (!hasPrevious) first = i;
+        }
+    } else {
+        for (std::size_t i = 0; i < count; ++i) {
+            const CornerTriangle& s = fan[i];
+            for (std::size_t j = i + 1; j < count; ++j) {
+                const CornerTriangle& t = fan[j];
+                if (s.hasCorner(t.id[0]) + s.hasCorner(t.id[1]) + s.hasCorner(t.id[2]) >= 2) {
+                    compare(i, j);
+                }
+            }
+        }
+    }
+    for (std::size_t k = 0; k < outer.size(); ++k) {
+        if (isSharp(fan[outerOf[k]].normal, outer[k].normal)) {
+            suspect[outerOf[k]] = 1;
+            unfolded = false;
+        }
+    }
+    if (centre < 0) return unfolded;
+    // Seen from the way of their sum, the triangles all face up and turn counter-clockwise
+    // around the centre; they go around it once if no other triangle's angle there holds
+    // the first edge of the first one.
+    Point up(0, 0, 0);
+    for (const CornerTriangle& t : fan) up += t.normal;
+    auto corner = [&](std::size_t i) {
+        const CornerTriangle& t = fan[i];
+        return t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
+    };
+    const int k0 = corner(first);
+    const Point x = fan[first].p[(k0 + 1) % 3] - fan[first].p[k0];
+    bool once = true;
+    for (std::size_t i = 0; i < count && once; ++i) {
+        const CornerTriangle& t = fan[i];
+        if (!((t.normal | up) > 0.0)) once = false;
+        if (i == first) continue;
+        const int k = corner(i);
+        const Point u = t.p[(k + 1) % 3] - t.p[k], w = t.p[(k + 2) % 3] - t.p[k];
+        // Holds x at its start too, not opposite it.
+        const double ux = (u % x) | up;
+        if ((ux > 0.0 || (ux == 0.0 && (u | x) > 0.0)) && ((x % w) | up) > 0.0) once = false;
+    }
+    if (once) return unfolded;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (fan[i].hasCorner(centre)) suspect[i] = 1;
+    }
+    return false;
+}
+
+} // namespace vdbi

@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/TriangleCrossing.h>
+
+#include "support/MeshIntersections.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+class TestTriangleCrossing : public ::testing::Test {};
+
+namespace {
+
+using vdbi::CornerTriangle;
+using Point = vdbi::TriMesh::Point;
+
+/// Triangle (a, b, c) of @a points as a CornerTriangle and as the test support's index triple.
+CornerTriangle
+corner(const vdbi::PointArray& points, const openvdb::Vec3I& t)
+{
+    auto p = [&](unsigned i) { return Point(points[i][0], points[i][1], points[i][2]); };
+    return {p(t[0]), p(t[1]), p(t[2]), int(t[0]), int(t[1]), int(t[2])};
+}
+
+/// The turn between the normals of two triangles, in degrees.
+double
+turnDegrees(const CornerTriangle& s, const CornerTriangle& t)
+{
+    const double c = (s.normal | t.normal) / (s.normal.norm() * t.normal.norm());
+    return std::acos(std::max(-1.0, std::min(1.0, c))) * 180.0 / M_PI;
+}
+
+/// A fan around point 0 of @a count triangles whose outer corners go @a turns times around it
+/// in the plane z = @a height(k) (point k + 1 at angle 2 pi turns k / count).
+struct Fan
+{
+    vdbi::PointArray points;
+    std::vector<CornerTriangle> triangles;
+};
+
+Fan
+makeFan(int count, int turns, double lift = 0.0, bool closed = true)
+{
+    Fan fan;
+    fan.points.push_back(openvdb::Vec3d(0.0));
+    for (int k = 0; k < count; ++k) {
+        const double angle = 2.0 * M_PI * turns * k / count;
+        fan.points.push_back(openvdb::Vec3d(std::cos(angle), std::sin(angle), lift * (k % 2)));
+    }
+    const int last = closed ? count : count - 1;
+    for (int k = 0; k < last; ++k) {
+        const unsigned a = unsigned(k + 1), b = unsigned((k + 1) % count + 1);
+        fan.triangles.push_back(corner(fan.points, openvdb::Vec3I(0, a, b)));
+    }
+    return fan;
+}
+
+} // namespace
+
+
+TEST_F(TestTriangleCrossing, testHandMadePairs)
+{
+    const vdbi::PointArray points = {
+        {0, 0, 0}, {2, 0, 0}, {1, 1, 0}, {1, -1, 0},    // 0-3: flat pair over edge 0-1
+        {1, 0.5, 0}, {1, 0.5, 1}, {3, 3, 3}, {1, 2, 0}, // 4-7
+        {0.5, 0.2, -1}, {0.5, 0.2, 1}, {1, 0.5, -1},    // 8-10
+        {2, -1, 0}, {0.8, 0.7, 0}};                      // 11-12
+    auto t = [&](unsigned a, unsigned b, unsigned c) {
+        return corner(points, openvdb::Vec3I(a, b, c));
+    };
+    // Sharing an edge: flat, folded onto each other, a right angle.
+    EXPECT_FALSE(vdbi::trianglesCross(t(0, 1, 2), t(1, 0, 3)));
+    EXPECT_TRUE(vdbi::trianglesCross(t(0, 1, 2), t(1, 0, 4)));
+    EXPECT_FALSE(vdbi::trianglesCross(t(0, 1, 2), t(1, 0, 5)));
+    // Sharing a corner in one plane: overlapping angles, and side by side.
+    EXPECT_TRUE(vdbi::trianglesCross(t(0, 1, 2), t(0, 4, 7)));
+    EXPECT_FALSE(vdbi::trianglesCross(t(0, 1, 2), t(0, 3, 11)));
+    // Sharing a corner: the other's opposite edge pierces it, or passes by.
+    EXPECT_TRUE(vdbi::trianglesCross(t(0, 1, 2), t(0, 8, 9)));
+    EXPECT_FALSE(vdbi::trianglesCross(t(0, 1, 2), t(0, 5, 6)));
+    // Sharing nothing: one plane overlapping (one inside the other), piercing, apart.
+    EXPECT_TRUE(vdbi::trianglesCross(t(0, 1, 7), t(4, 2, 12)));
+    EXPECT_TRUE(vdbi::trianglesCross(t(0, 1, 2), t(10, 5, 6)));
+    EXPECT_FALSE(vdbi::trianglesCross(t(0, 1, 3), t(5, 6, 7)));
+    // The same triangle twice.
+    EXPECT_TRUE(vdbi::trianglesCross(t(0, 1, 2), t(1, 2, 0)));
+}
+
+TEST_F(TestTriangleCrossing, testAgreesWithIndependentCheck)
+{
+    // Random pairs sharing 0, 1 or 2 corners, half of them with all points in the plane z = 0
+    // (exactly coplanar, as on a flat stretch of the reference surface): the
+    // answer equals the test support's, but for folds by more than 175 degrees that the
+    // support calls apart because they are not exactly flat.
+    std::mt19937 rng(20261202);
+    std::uniform_real_distribution<double> coordinate(-3.0, 3.0);
+    std::size_t crossing = 0, apart = 0, tolerated = 0;
+    for (int trial = 0; trial < 60000; ++trial) {
+        const bool flat = trial % 2 == 0;
+        vdbi::PointArray points(6);
+        for (auto& p : points) {
+            p = openvdb::Vec3d(coordinate(rng), coordinate(rng), flat ? 0.0 : coordinate(rng));
+        }
+        const int shared = trial / 2 % 3;
+        const openvdb::Vec3I s(0, 1, 2);
+        openvdb::Vec3I t(3, 4, 5);
+        if (shared >= 1) t = openvdb::Vec3I(0, 4, 5);
+        if (shared == 2) t = openvdb::Vec3I(1, 0, 5);
+        const CornerTriangle cs = corner(points, s), ct = corner(points, t);
+        if (cs.normal.sqrnorm() == 0.0 || ct.normal.sqrnorm() == 0.0) continue;   // degenerate
+        const bool expected = vdbi_test::trianglesIntersect(points, s, t);
+        const bool found = vdbi::trianglesCross(cs, ct);
+        if (found != expected && shared == 2 && found && turnDegrees(cs, ct) > 175.0) {
+            ++tolerated;
+            continue;
+        }
+        ASSERT_EQ(found, expected) << "trial " << trial << ", " << shared << " shared, "
+                                   << (flat ? "flat" : "not flat");
+        ++(found ? crossing : apart);
+    }
+    // Both answers are common (a test that cannot fail would not show it).
+    EXPECT_GT(crossing, 5000u);
+    EXPECT_GT(apart, 5000u);
+    EXPECT_LT(tolerated, 1000u);   // about 2 % of the pairs sharing an edge
+}
+
+TEST_F(TestTriangleCrossing, testCountCrossings)
+{
+    // A flat fan has none; lifting every other corner far above the plane folds nothing
+    // either; a fan winding twice around its centre crosses itself.
+    EXPECT_EQ(vdbi::countCrossings(makeFan(6, 1).triangles, {}), 0);
+    EXPECT_EQ(vdbi::countCrossings(makeFan(6, 1, 0.5).triangles, {}), 0);
+    const Fan twice = makeFan(7, 2);
+    EXPECT_GT(vdbi::countCrossings(twice.triangles, {}), 0);
+    // Only pairs with a suspect triangle are counted, each once.
+    std::vector<char> none(twice.triangles.size(), 0), all(twice.triangles.size(), 1);
+    EXPECT_EQ(vdbi::countCrossings(twice.triangles, {}, &none), 0);
+    EXPECT_EQ(vdbi::countCrossings(twice.triangles, {}, &all),
+              vdbi::countCrossings(twice.triangles, {}));
+}
+
+TEST_F(TestTriangleCrossing, testLooksUnfolded)
+{
+    std::vector<char> suspect;
+    const std::vector<CornerTriangle> none;
+    const double cos120 = std::cos(120.0 * M_PI / 180.0);
+    // Flat and gently lifted fans look unfolded.
+    EXPECT_TRUE(vdbi::looksUnfolded(makeFan(6, 1).triangles, none, {}, 0, cos120, suspect));
+    EXPECT_TRUE(vdbi::looksUnfolded(makeFan(8, 1, 0.3).triangles, none, {}, 0, cos120,
+                                    suspect));
+    // An open fan (a boundary vertex) of under a full turn too; over a full turn it does not.
+    EXPECT_TRUE(vdbi::looksUnfolded(makeFan(6, 1, 0.0, false).triangles, none, {}, 0, cos120,
+                                    suspect));
+    EXPECT_FALSE(vdbi::looksUnfolded(makeFan(9, 2, 0.0, false).triangles, none, {}, 0, cos120,
+                                     suspect));
+    // A fan going around twice, every turn between neighbours zero: all suspect.
+    const Fan twice = makeFan(7, 2);
+    EXPECT_FALSE(vdbi::looksUnfolded(twice.triangles, none, {}, 0, cos120, suspect));
+    EXPECT_EQ(std::count(suspect.begin(), suspect.end(), 1), 7);
+    // A neighbour across an outer edge folded back onto a triangle makes that one suspect.
+    Fan flat = makeFan(6, 1);
+    const CornerTriangle& t = flat.triangles[2];
+    const Point inside = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
+    const std::vector<CornerTriangle> outer = {
+        CornerTriangle(t.p[2], t.p[1], inside, t.id[2], t.id[1], 99)};
+    EXPECT_FALSE(vdbi::looksUnfolded(flat.triangles, outer, {2}, 0, cos120, suspect));
+    EXPECT_EQ(suspect, std::vector<char>({0, 0, 1, 0, 0, 0}));
+}
