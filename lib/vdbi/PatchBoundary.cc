@@ -195,12 +195,14 @@ RemeshingPatch::zipCurve(std::uint32_t curveIndex, bool forward)
         const double len = normal.norm();
         if (len > 0.0) normal /= len;
         const VertexHandle c = addInnerVertex(centre, normal);
+        mZippedPoints.insert(mZippedPoints.end(), a.begin() + 1, a.end() - 1);
         for (std::size_t i = 0; i < m; ++i) addFace(c, a[i], a[i + 1]);
         addFace(c, a[m], a[0]);
         return;
     }
     // Zip the two chains by arc length: every triangle has one edge on one chain and its
     // third corner on the other. The faces sit on the outer side of the old boundary.
+    mZippedPoints.insert(mZippedPoints.end(), a.begin() + 1, a.end() - 1);
     addFace(a[0], a[1], b[1]);
     std::size_t i = 1, j = 1;
     while (!((i == m && j == n - 1) || (i == m - 1 && j == n) || (i == m && j == n))) {
@@ -226,8 +228,37 @@ RemeshingPatch::attachCurveSamples()
     }
     std::sort(mExpectedBoundary.begin(), mExpectedBoundary.end());
     separateLockedVertices();
+    relaxZippedPoints();
     if (!hasExpectedBoundary()) {
         throw TopologyError(where() + ": the boundary does not match the curve samples");
+    }
+}
+
+
+void
+RemeshingPatch::relaxZippedPoints()
+{
+    // The zipper's triangles are slivers between points of one curve (the samples lie on the
+    // polyline of the extracted points), folded wherever the curve bends: most of the
+    // crossings the remesher starts with. Three sweeps of moving the extracted points to the
+    // mean of their neighbours open the strip into the patch; projection takes them back
+    // onto the reference surface.
+    std::vector<VertexHandle> points;
+    for (const VertexHandle v : mZippedPoints) {
+        if (isFree(v)) points.push_back(v);
+    }
+    std::vector<Point> moved(points.size());
+    for (int sweep = 0; sweep < 3; ++sweep) {
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            Point sum(0, 0, 0);
+            double count = 0.0;
+            for (const VertexHandle w : mMesh.vv_range(points[k])) {
+                sum += mMesh.point(w);
+                count += 1.0;
+            }
+            moved[k] = count > 0.0 ? sum / count : mMesh.point(points[k]);
+        }
+        for (std::size_t k = 0; k < points.size(); ++k) mMesh.set_point(points[k], moved[k]);
     }
 }
 

@@ -120,6 +120,7 @@ private:
     void buildMesh();
     void separateLockedVertices();
     void zipCurve(std::uint32_t curveIndex, bool forward);
+    void relaxZippedPoints();
 
     const InterfacePatch& mPatch;
     const PatchReference& mReference;
@@ -133,6 +134,8 @@ private:
     OpenMesh::VPropHandleT<std::uint32_t> mRefTriangle;
     /// The boundary the samples give, as sorted (from, to) sample id pairs.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> mExpectedBoundary;
+    /// The extracted boundary points zipCurve() made inner vertices.
+    std::vector<VertexHandle> mZippedPoints;
 };
 
 } // namespace vdbi
