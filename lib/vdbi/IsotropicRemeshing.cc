@@ -594,18 +594,18 @@ IsotropicRemesher::foldsMore(std::initializer_list<VertexHandle> near,
                       mSuspect)) {
         return false;
     }
-    if (mNeighboursOnly) {
-        mAroundTriangles = mOuterTriangles;
-    } else {
+    if (!mNeighboursOnly) {
         collectAround(near, replaced);
         mAroundTriangles.clear();
         for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
     }
-    const int after = countCrossings(mNewTriangles, mAroundTriangles, &mSuspect);
+    const std::vector<CornerTriangle>& around = mNeighboursOnly ? mOuterTriangles
+                                                                : mAroundTriangles;
+    const int after = countCrossings(mNewTriangles, around, &mSuspect);
     if (after == 0) return false;
     mOldTriangles.clear();
     for (const FaceHandle f : replaced) mOldTriangles.push_back(cornerTriangle(f));
-    return after > countCrossings(mOldTriangles, mAroundTriangles);
+    return after > countCrossings(mOldTriangles, around);
 }
 
 bool

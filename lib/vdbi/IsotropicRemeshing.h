@@ -51,8 +51,8 @@ struct RemeshSettings
 /// twice, and in the first round's collapses, from the staircase, against the faces across
 /// the fan's edges only); no relaxation move drags a vertex across a crease, and a vertex
 /// on a folded triangle relaxes to the mean of its neighbours (unfolding what attaching the
-/// samples folded). So the patch keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
-/// depends on the patch alone.
+/// samples folded). So the patch keeps its topology. Every loop runs in a fixed order (edge
+/// or vertex index): the result depends on the patch alone.
 /// @return false if the interrupter asked to stop (the patch is then unfinished)
 bool remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
                          InterruptFlag& interrupt);
