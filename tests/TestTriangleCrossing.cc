@@ -170,3 +170,60 @@ TEST_F(TestTriangleCrossing, testLooksUnfolded)
     EXPECT_FALSE(vdbi::looksUnfolded(flat.triangles, outer, {2}, 0, cos120, suspect));
     EXPECT_EQ(suspect, std::vector<char>({0, 0, 1, 0, 0, 0}));
 }
+
+TEST_F(TestTriangleCrossing, testEmbeddedFans)
+{
+    // Random fans around point 0, their triangles in random order: corners at growing angles
+    // over half a turn to two and a half, at random radii and heights. Whenever
+    // looksUnfolded() calls one embedded, the test support finds no two of its triangles
+    // crossing, and counting only the pairs sharing an edge gives the full count.
+    std::mt19937 rng(20261203);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const std::vector<CornerTriangle> none;
+    const double cos120 = std::cos(120.0 * M_PI / 180.0);
+    int embeddedFans = 0, crossingFans = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const int count = 3 + trial % 10;
+        const bool closed = trial % 3 != 0;
+        const double total = 2.0 * M_PI * (0.5 + 2.0 * unit(rng));
+        const double height = trial % 4 == 0 ? 0.0 : 1.5 * unit(rng);
+        Fan fan;
+        fan.points.push_back(openvdb::Vec3d(0.0));
+        for (int k = 0; k < count; ++k) {
+            const double angle = total * (k + 0.8 * unit(rng)) / count;
+            const double radius = 0.5 + unit(rng);
+            fan.points.push_back(openvdb::Vec3d(radius * std::cos(angle),
+                                                radius * std::sin(angle),
+                                                height * (2.0 * unit(rng) - 1.0)));
+        }
+        for (int k = 0; k < (closed ? count : count - 1); ++k) {
+            const unsigned a = unsigned(k + 1), b = unsigned((k + 1) % count + 1);
+            fan.triangles.push_back(corner(fan.points, openvdb::Vec3I(0, a, b)));
+        }
+        std::shuffle(fan.triangles.begin(), fan.triangles.end(), rng);
+        std::vector<char> suspect;
+        bool embedded = false;
+        vdbi::looksUnfolded(fan.triangles, none, {}, 0, cos120, suspect, &embedded);
+        const std::vector<char> all(fan.triangles.size(), 1);
+        const int crossings = vdbi::countCrossings(fan.triangles, {}, &all);
+        crossingFans += crossings > 0;
+        if (!embedded) continue;
+        ++embeddedFans;
+        EXPECT_EQ(vdbi::countCrossings(fan.triangles, {}, &all, true), crossings);
+        for (const CornerTriangle& s : fan.triangles) {
+            for (const CornerTriangle& t : fan.triangles) {
+                const openvdb::Vec3I is(s.id[0], s.id[1], s.id[2]), it(t.id[0], t.id[1], t.id[2]);
+                if (&s == &t || s.hasCorner(t.id[1]) || s.hasCorner(t.id[2])) continue;
+                ASSERT_FALSE(vdbi_test::trianglesIntersect(fan.points, is, it))
+                    << "trial " << trial;
+            }
+        }
+    }
+    // Both kinds are common; and the shortcut is wrong for fans that are not embedded.
+    EXPECT_GT(embeddedFans, 500);
+    EXPECT_GT(crossingFans, 500);
+    const Fan twice = makeFan(7, 2);
+    const std::vector<char> all(twice.triangles.size(), 1);
+    EXPECT_LT(vdbi::countCrossings(twice.triangles, {}, &all, true),
+              vdbi::countCrossings(twice.triangles, {}, &all));
+}

@@ -567,14 +567,15 @@ IsotropicRemesher::movedIntoFold(VertexHandle v)
         mNewTriangles.push_back(cornerTriangle(f));
         addOuterFace(f, v, v);
     }
+    bool embedded = false;
     if (looksUnfolded(mNewTriangles, mOuterTriangles, mOuterOf, v.idx(), SHARP_TURN_COS,
-                      mSuspect)) {
+                      mSuspect, &embedded)) {
         return false;
     }
     collectAround({v}, mChanged);
     mAroundTriangles.clear();
     for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
-    const int after = countCrossings(mNewTriangles, mAroundTriangles, &mSuspect);
+    const int after = countCrossings(mNewTriangles, mAroundTriangles, &mSuspect, embedded);
     if (after == 0) return false;
     // The same triangles where the round started.
     mOldTriangles.clear();
@@ -590,8 +591,9 @@ bool
 IsotropicRemesher::foldsMore(std::initializer_list<VertexHandle> near,
                              const std::vector<FaceHandle>& replaced, int centre)
 {
+    bool embedded = false;
     if (looksUnfolded(mNewTriangles, mOuterTriangles, mOuterOf, centre, SHARP_TURN_COS,
-                      mSuspect)) {
+                      mSuspect, &embedded)) {
         return false;
     }
     if (!mNeighboursOnly) {
@@ -601,7 +603,7 @@ IsotropicRemesher::foldsMore(std::initializer_list<VertexHandle> near,
     }
     const std::vector<CornerTriangle>& around = mNeighboursOnly ? mOuterTriangles
                                                                 : mAroundTriangles;
-    const int after = countCrossings(mNewTriangles, around, &mSuspect);
+    const int after = countCrossings(mNewTriangles, around, &mSuspect, embedded);
     if (after == 0) return false;
     mOldTriangles.clear();
     for (const FaceHandle f : replaced) mOldTriangles.push_back(cornerTriangle(f));

@@ -3,7 +3,6 @@
 #include <vdbi/TriangleCrossing.h>
 
 #include <cmath>
-#include <utility>
 #include <vector>
 
 namespace vdbi {
@@ -178,16 +177,22 @@ trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
 
 int
 countCrossings(const std::vector<CornerTriangle>& changed,
-               const std::vector<CornerTriangle>& around, const std::vector<char>* suspect)
+               const std::vector<CornerTriangle>& around, const std::vector<char>* suspect,
+               bool embedded)
 {
     int count = 0;
     for (std::size_t i = 0; i < changed.size(); ++i) {
         if (suspect && !(*suspect)[i]) continue;
-        for (const CornerTriangle& t : around) count += trianglesCross(changed[i], t);
+        const CornerTriangle& s = changed[i];
+        for (const CornerTriangle& t : around) count += trianglesCross(s, t);
         // Each pair once: j < i only if j is not tested on its own.
         for (std::size_t j = 0; j < changed.size(); ++j) {
             if (j == i || (j < i && (!suspect || (*suspect)[j]))) continue;
-            count += trianglesCross(changed[i], changed[j]);
+            const CornerTriangle& t = changed[j];
+            if (embedded && s.hasCorner(t.id[0]) + s.hasCorner(t.id[1]) + s.hasCorner(t.id[2]) < 2) {
+                continue;
+            }
+            count += trianglesCross(s, t);
         }
     }
     return count;
@@ -196,7 +201,7 @@ countCrossings(const std::vector<CornerTriangle>& changed,
 bool
 looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTriangle>& outer,
               const std::vector<int>& outerOf, int centre, double turnCos,
-              std::vector<char>& suspect)
+              std::vector<char>& suspect, bool* embedded)
 {
     auto isSharp = [turnCos](const Point& n, const Point& m) {
         const double d = n | m, bound = turnCos * turnCos * n.sqrnorm() * m.sqrnorm();
@@ -204,31 +209,43 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
     };
     const std::size_t count = fan.size();
     suspect.assign(count, 0);
+    if (embedded) *embedded = false;
     bool unfolded = true;
     auto compare = [&](std::size_t i, std::size_t j) {
         if (!isSharp(fan[i].normal, fan[j].normal)) return;
         suspect[i] = suspect[j] = 1;
         unfolded = false;
     };
-    // Triangle i is (centre, ring[i].first, ring[i].second) counter-clockwise; the one after
-    // it around the centre starts with ring[i].second.
-    thread_local std::vector<std::pair<int, int>> ring;
+    // Corner k of triangle i is the centre; the triangle turns counter-clockwise from its
+    // corner k + 1 to k + 2, and the one after it around the centre starts with k + 2.
+    auto corner = [&](std::size_t i) {
+        const CornerTriangle& t = fan[i];
+        return t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
+    };
+    auto startOf = [&](std::size_t i) { return fan[i].id[(corner(i) + 1) % 3]; };
+    auto endOf = [&](std::size_t i) { return fan[i].id[(corner(i) + 2) % 3]; };
+    // The triangle that starts where @a i ends (or ends where it starts, if !forward): fans
+    // come in the order of their circulation, so the neighbours in the list are tried first.
+    auto find = [&](std::size_t i, bool forward) {
+        const int id = forward ? endOf(i) : startOf(i);
+        auto matches = [&](std::size_t j) {
+            return j != i && (forward ? startOf(j) : endOf(j)) == id;
+        };
+        const std::size_t next = (i + 1) % count, previous = (i + count - 1) % count;
+        if (matches(forward ? next : previous)) return forward ? next : previous;
+        if (matches(forward ? previous : next)) return forward ? previous : next;
+        for (std::size_t j = 0; j < count; ++j) {
+            if (matches(j)) return j;
+        }
+        return count;
+    };
     std::size_t first = 0;   // a triangle no other comes before (at a boundary, the first)
     if (centre >= 0) {
-        ring.resize(count);
+        // A fan around a vertex of a 2-manifold: at most one triangle after each.
         for (std::size_t i = 0; i < count; ++i) {
-            const CornerTriangle& t = fan[i];
-            const int k = t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
-            ring[i] = {t.id[(k + 1) % 3], t.id[(k + 2) % 3]};
-        }
-        for (std::size_t i = 0; i < count; ++i) {
-            bool hasPrevious = false;
-            for (std::size_t j = 0; j < count; ++j) {
-                if (j == i) continue;
-                if (ring[i].second == ring[j].first) compare(i, j);
-                hasPrevious = hasPrevious || ring[j].second == ring[i].first;
-            }
-            if (!hasPrevious) first = i;
+            const std::size_t j = find(i, true);
+            if (j < count) compare(i, j);
+            if (find(i, false) == count) first = i;
         }
     } else {
         for (std::size_t i = 0; i < count; ++i) {
@@ -253,10 +270,6 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
     // the first edge of the first one.
     Point up(0, 0, 0);
     for (const CornerTriangle& t : fan) up += t.normal;
-    auto corner = [&](std::size_t i) {
-        const CornerTriangle& t = fan[i];
-        return t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
-    };
     const int k0 = corner(first);
     const Point x = fan[first].p[(k0 + 1) % 3] - fan[first].p[k0];
     bool once = true;
@@ -270,7 +283,10 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
         const double ux = (u % x) | up;
         if ((ux > 0.0 || (ux == 0.0 && (u | x) > 0.0)) && ((x % w) | up) > 0.0) once = false;
     }
-    if (once) return unfolded;
+    if (once) {
+        if (embedded) *embedded = true;
+        return unfolded;
+    }
     for (std::size_t i = 0; i < count; ++i) {
         if (fan[i].hasCorner(centre)) suspect[i] = 1;
     }

@@ -48,10 +48,13 @@ struct CornerTriangle
 bool trianglesCross(const CornerTriangle& s, const CornerTriangle& t);
 
 /// @brief Crossing pairs between @a changed and @a around plus those within @a changed.
-/// @param suspect  if given, only pairs with a flagged triangle of @a changed are tested
+/// @param suspect   if given, only pairs with a flagged triangle of @a changed are tested
+/// @param embedded  the triangles of @a changed are known to meet each other only in the
+///                  corners and edges they share (see looksUnfolded()): of their pairs only
+///                  those sharing an edge are tested (they may still fold onto each other)
 int countCrossings(const std::vector<CornerTriangle>& changed,
                    const std::vector<CornerTriangle>& around,
-                   const std::vector<char>* suspect = nullptr);
+                   const std::vector<char>* suspect = nullptr, bool embedded = false);
 
 /// @brief The cheap test before counting crossings: does nothing in @a fan look folded?
 /// @details Looks at the turn (the angle between the normals) of every two triangles of
@@ -60,12 +63,16 @@ int countCrossings(const std::vector<CornerTriangle>& changed,
 /// that corner), whether they all face the way of their sum and go around it once. A fold
 /// needs a sharp turn or a fan that winds twice.
 /// @param turnCos  cosine of the largest turn that is not sharp
-/// @param suspect  set to 1 for every triangle of @a fan at a sharp turn, and for all at the
-///                 centre if they wind more than once; 0 for the others
+/// @param suspect   set to 1 for every triangle of @a fan at a sharp turn, and for all at the
+///                  centre if they wind more than once; 0 for the others
+/// @param embedded  if given, set to whether the fan has a centre and goes around it once:
+///                  seen from the way of their sum its triangles then cover disjoint angles,
+///                  so they meet each other only in the corners and edges they share
 /// @return true if no triangle is suspect
 bool looksUnfolded(const std::vector<CornerTriangle>& fan,
                    const std::vector<CornerTriangle>& outer, const std::vector<int>& outerOf,
-                   int centre, double turnCos, std::vector<char>& suspect);
+                   int centre, double turnCos, std::vector<char>& suspect,
+                   bool* embedded = nullptr);
 
 } // namespace vdbi
 
