@@ -3,11 +3,10 @@
 #include <vdbi/IsotropicRemeshing.h>
 
 #include <vdbi/EdgeCollapse.h>
-#include <vdbi/TriangleCrossing.h>
+#include <vdbi/FoldGuard.h>
 
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <vector>
 
@@ -64,10 +63,6 @@ struct EdgeDiamond
     }
 };
 
-/// Cosine of the turn between neighbouring triangles' normals beyond which an operation's
-/// result is tested for crossings (folds need one; the staircase has few).
-const double SHARP_TURN_COS = std::cos(120.0 * M_PI / 180.0);
-
 /// A triangle by its corner positions.
 struct Triangle
 {
@@ -95,36 +90,6 @@ public:
 private:
     bool isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position);
     bool isFlipAllowed(EdgeHandle e);
-    /// @brief Do mNewTriangles, replacing @a replaced, fold through each other or their
-    /// neighbours more often than the triangles of @a replaced did?
-    /// @details First the cheap test (looksUnfolded()) on mNewTriangles and mOuterTriangles
-    /// with @a centre (-1: none); then the suspect triangles are counted against the faces
-    /// with a corner on or next to @a near (or against mOuterTriangles only when
-    /// mNeighboursOnly), and, only if they cross any, the old triangles too.
-    bool foldsMore(std::initializer_list<VertexHandle> near,
-                   const std::vector<FaceHandle>& replaced, int centre);
-    /// The faces with a corner on or next to one of @a near, other than @a skip, into
-    /// mAroundFaces.
-    void collectAround(std::initializer_list<VertexHandle> near,
-                       const std::vector<FaceHandle>& skip);
-    /// Does the fan of @a v, moved by this round's relaxation and projection, fold through
-    /// more triangles around it than where the round started (mPrevious)?
-    bool movedIntoFold(VertexHandle v);
-    /// The face across the edge of @a f that avoids @a a and @a b, if any, into
-    /// mOuterTriangles as the neighbour of the last of mNewTriangles.
-    void addOuterFace(FaceHandle f, VertexHandle a, VertexHandle b);
-    CornerTriangle cornerTriangle(FaceHandle f) const
-    {
-        auto it = mMesh.cfv_iter(f);
-        const VertexHandle a = *it, b = *++it, c = *++it;
-        return {mMesh.point(a), mMesh.point(b), mMesh.point(c), a.idx(), b.idx(), c.idx()};
-    }
-    CornerTriangle cornerTriangle(FaceHandle f, const std::vector<Point>& at) const
-    {
-        auto it = mMesh.cfv_iter(f);
-        const int a = (*it).idx(), b = (*++it).idx(), c = (*++it).idx();
-        return {at[a], at[b], at[c], a, b, c};
-    }
     void collapseEdge(HalfedgeHandle h, const Point& position);
     void flipEdge(EdgeHandle e);
     VertexHandle splitEdge(EdgeHandle e);
@@ -209,21 +174,15 @@ private:
     std::vector<FaceHandle> mRemovedFaces;   ///< scratch: faces a collapse removes
     std::vector<FaceHandle> mUnchangedFaces;     ///< scratch: faces a collapse keeps
     std::vector<Triangle> mUnchangedTriangles;   ///< scratch: their triangles
-    /// Scratch of foldsMore(): the triangles an operation makes and those it replaces, the
-    /// faces across the new triangles' outer edges (and which new triangle each is across
-    /// from), the faces around, and the new triangles at a sharp turn.
-    std::vector<CornerTriangle> mNewTriangles, mOldTriangles, mOuterTriangles, mAroundTriangles;
-    std::vector<int> mOuterOf;
-    std::vector<char> mSuspect;
-    std::vector<FaceHandle> mAroundFaces;
-    std::vector<int> mFaceMark;   ///< mMark where a face was met already
-    int mMark = 0;
+    FoldGuard mFolds;
+    /// The first round's collapses test for folds against the faces across the fan's edges
+    /// only (FoldGuard::foldsMore()).
     bool mNeighboursOnly = false;
 };
 
 IsotropicRemesher::IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings)
     : mPatch(patch), mMesh(patch.mesh()), mSettings(settings),
-      mReferencePoints(patch.reference().points())
+      mReferencePoints(patch.reference().points()), mFolds(patch.mesh())
 {
     // Mesh vertex i was made at reference vertex i: a face at it covers it (at distance 0).
     mMesh.add_property(mFirstCovered, "f:covered");
@@ -461,22 +420,20 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
 
     // Last, as the dearest: v1's new fan (the changed faces and those that stay) folds
     // through no more triangles than the faces it replaces did.
-    mNewTriangles.clear();
-    mOuterTriangles.clear();
-    mOuterOf.clear();
+    mFolds.clear();
     for (std::size_t k = 0; k < changedCount; ++k) {
         int id[3], i = 0;
         for (const VertexHandle c : mMesh.fv_range(mFaces[k])) id[i++] = (c == v0 ? v1 : c).idx();
         const Triangle& t = mTriangles[k];
-        mNewTriangles.emplace_back(t.a, t.b, t.c, id[0], id[1], id[2]);
-        addOuterFace(mFaces[k], v0, v1);
+        mFolds.addNew(CornerTriangle(t.a, t.b, t.c, id[0], id[1], id[2]));
+        mFolds.addAcross(mFaces[k], v0, v1);
     }
     for (const FaceHandle f : mUnchangedFaces) {
-        mNewTriangles.push_back(cornerTriangle(f));
-        addOuterFace(f, v0, v1);
+        mFolds.addNew(mFolds.cornerTriangle(f));
+        mFolds.addAcross(f, v0, v1);
     }
     mFaces.insert(mFaces.end(), mUnchangedFaces.begin(), mUnchangedFaces.end());
-    return !foldsMore({v0, v1}, mFaces, v1.idx());
+    return !mFolds.foldsMore({v0, v1}, mFaces, v1.idx(), mNeighboursOnly);
 }
 
 void
@@ -521,95 +478,6 @@ IsotropicRemesher::collapseShortEdges(bool neighboursOnly)
     if (collapses > 0) collectGarbage(mMesh);
 }
 
-void
-IsotropicRemesher::addOuterFace(FaceHandle f, VertexHandle a, VertexHandle b)
-{
-    for (const HalfedgeHandle g : mMesh.fh_range(f)) {
-        const VertexHandle from = mMesh.from_vertex_handle(g), to = mMesh.to_vertex_handle(g);
-        if (from == a || from == b || to == a || to == b) continue;
-        const FaceHandle o = mMesh.opposite_face_handle(g);
-        if (!o.is_valid()) return;
-        mOuterTriangles.push_back(cornerTriangle(o));
-        mOuterOf.push_back(int(mNewTriangles.size()) - 1);
-        return;
-    }
-}
-
-void
-IsotropicRemesher::collectAround(std::initializer_list<VertexHandle> near,
-                                 const std::vector<FaceHandle>& skip)
-{
-    if (mFaceMark.size() < mMesh.n_faces()) mFaceMark.resize(mMesh.n_faces(), 0);
-    ++mMark;
-    for (const FaceHandle f : skip) mFaceMark[f.idx()] = mMark;
-    mAroundFaces.clear();
-    auto addFacesAt = [&](VertexHandle w) {
-        for (const FaceHandle f : mMesh.vf_range(w)) {
-            if (mFaceMark[f.idx()] == mMark) continue;
-            mFaceMark[f.idx()] = mMark;
-            mAroundFaces.push_back(f);
-        }
-    };
-    for (const VertexHandle v : near) {
-        addFacesAt(v);
-        for (const VertexHandle w : mMesh.vv_range(v)) addFacesAt(w);
-    }
-}
-
-bool
-IsotropicRemesher::movedIntoFold(VertexHandle v)
-{
-    mChanged.assign(mMesh.vf_begin(v), mMesh.vf_end(v));
-    mNewTriangles.clear();
-    mOuterTriangles.clear();
-    mOuterOf.clear();
-    for (const FaceHandle f : mChanged) {
-        mNewTriangles.push_back(cornerTriangle(f));
-        addOuterFace(f, v, v);
-    }
-    bool embedded = false;
-    if (looksUnfolded(mNewTriangles, mOuterTriangles, mOuterOf, v.idx(), SHARP_TURN_COS,
-                      mSuspect, &embedded)) {
-        return false;
-    }
-    collectAround({v}, mChanged);
-    mAroundTriangles.clear();
-    for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
-    const int after = countCrossings(mNewTriangles, mAroundTriangles, &mSuspect, embedded);
-    if (after == 0) return false;
-    // The same triangles where the round started.
-    mOldTriangles.clear();
-    for (const FaceHandle f : mChanged) mOldTriangles.push_back(cornerTriangle(f, mPrevious));
-    mAroundTriangles.clear();
-    for (const FaceHandle f : mAroundFaces) {
-        mAroundTriangles.push_back(cornerTriangle(f, mPrevious));
-    }
-    return after > countCrossings(mOldTriangles, mAroundTriangles);
-}
-
-bool
-IsotropicRemesher::foldsMore(std::initializer_list<VertexHandle> near,
-                             const std::vector<FaceHandle>& replaced, int centre)
-{
-    bool embedded = false;
-    if (looksUnfolded(mNewTriangles, mOuterTriangles, mOuterOf, centre, SHARP_TURN_COS,
-                      mSuspect, &embedded)) {
-        return false;
-    }
-    if (!mNeighboursOnly) {
-        collectAround(near, replaced);
-        mAroundTriangles.clear();
-        for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
-    }
-    const std::vector<CornerTriangle>& around = mNeighboursOnly ? mOuterTriangles
-                                                                : mAroundTriangles;
-    const int after = countCrossings(mNewTriangles, around, &mSuspect, embedded);
-    if (after == 0) return false;
-    mOldTriangles.clear();
-    for (const FaceHandle f : replaced) mOldTriangles.push_back(cornerTriangle(f));
-    return after > countCrossings(mOldTriangles, around);
-}
-
 bool
 IsotropicRemesher::isFlipAllowed(EdgeHandle e)
 {
@@ -639,21 +507,18 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
         return false;
     }
     // Last, as the dearest: the new pair folds through no more triangles than the old one.
-    mNewTriangles.assign({CornerTriangle(p0, pd, pc, v0.idx(), d.idx(), c.idx()),
-                          CornerTriangle(pd, p1, pc, d.idx(), v1.idx(), c.idx())});
-    mOuterTriangles.clear();
-    mOuterOf.clear();
+    mFolds.clear();
+    mFolds.addNew(CornerTriangle(p0, pd, pc, v0.idx(), d.idx(), c.idx()));
+    mFolds.addNew(CornerTriangle(pd, p1, pc, d.idx(), v1.idx(), c.idx()));
     // The diamond's sides (v1, c), (c, v0), (v0, d), (d, v1) and the new triangle of each.
     const HalfedgeHandle sides[4] = {mMesh.next_halfedge_handle(h0), mMesh.prev_halfedge_handle(h0),
                                      mMesh.next_halfedge_handle(h1), mMesh.prev_halfedge_handle(h1)};
     const int newOf[4] = {1, 0, 0, 1};
     for (int k = 0; k < 4; ++k) {
         const FaceHandle o = mMesh.opposite_face_handle(sides[k]);
-        if (!o.is_valid()) continue;
-        mOuterTriangles.push_back(cornerTriangle(o));
-        mOuterOf.push_back(newOf[k]);
+        if (o.is_valid()) mFolds.addNeighbour(o, newOf[k]);
     }
-    return !foldsMore({v0, v1, c, d}, mFaces, -1);
+    return !mFolds.foldsMore({v0, v1, c, d}, mFaces, -1, false);
 }
 
 void
@@ -859,7 +724,7 @@ IsotropicRemesher::projectToReference()
                 ++unsure;
             }
             if (keep && (unsure == 0 || keepsCovered(mFaces, mTriangles, &mPrevious, unsure))
-                && !movedIntoFold(v)) {
+                && !mFolds.movedIntoFold(v, mPrevious)) {
                 continue;
             }
             --kept[v.idx()];

@@ -47,7 +47,7 @@ struct RemeshSettings
 /// (against its own old normal), a flip or projection folds none against the reference
 /// normals; no collapse, flip or move (relaxation with projection) makes the triangles it
 /// changes cross each other or the faces around more often than the ones they replace did
-/// (TriangleCrossing.h; only where neighbours turn by over 120 degrees or a fan winds
+/// (FoldGuard.h; only where neighbours turn by over 120 degrees or a fan winds
 /// twice, and in the first round's collapses, from the staircase, against the faces across
 /// the fan's edges only); no relaxation move drags a vertex across a crease, and a vertex
 /// on a folded triangle relaxes to the mean of its neighbours (unfolding what attaching the

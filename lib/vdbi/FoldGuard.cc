@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/FoldGuard.h>
+
+#include <cmath>
+
+namespace vdbi {
+
+namespace {
+
+/// Cosine of the turn between neighbouring triangles' normals beyond which an operation's
+/// result is tested for crossings (folds need one; the staircase has few).
+const double SHARP_TURN_COS = std::cos(120.0 * M_PI / 180.0);
+
+} // namespace
+
+CornerTriangle
+FoldGuard::cornerTriangle(FaceHandle f) const
+{
+    auto it = mMesh.cfv_iter(f);
+    const VertexHandle a = *it, b = *++it, c = *++it;
+    return {mMesh.point(a), mMesh.point(b), mMesh.point(c), a.idx(), b.idx(), c.idx()};
+}
+
+CornerTriangle
+FoldGuard::cornerTriangle(FaceHandle f, const std::vector<Point>& at) const
+{
+    auto it = mMesh.cfv_iter(f);
+    const int a = (*it).idx(), b = (*++it).idx(), c = (*++it).idx();
+    return {at[a], at[b], at[c], a, b, c};
+}
+
+void
+FoldGuard::clear()
+{
+    mNewTriangles.clear();
+    mNeighbours.clear();
+    mNeighbourOf.clear();
+}
+
+void
+FoldGuard::addAcross(FaceHandle f, VertexHandle a, VertexHandle b)
+{
+    for (const auto g : mMesh.fh_range(f)) {
+        const VertexHandle from = mMesh.from_vertex_handle(g), to = mMesh.to_vertex_handle(g);
+        if (from == a || from == b || to == a || to == b) continue;
+        const FaceHandle o = mMesh.opposite_face_handle(g);
+        if (o.is_valid()) addNeighbour(o, int(mNewTriangles.size()) - 1);
+        return;
+    }
+}
+
+void
+FoldGuard::addNeighbour(FaceHandle f, int k)
+{
+    mNeighbours.push_back(cornerTriangle(f));
+    mNeighbourOf.push_back(k);
+}
+
+void
+FoldGuard::collectAround(std::initializer_list<VertexHandle> near,
+                         const std::vector<FaceHandle>& skip)
+{
+    if (mFaceMark.size() < mMesh.n_faces()) mFaceMark.resize(mMesh.n_faces(), 0);
+    ++mMark;
+    for (const FaceHandle f : skip) mFaceMark[f.idx()] = mMark;
+    mAroundFaces.clear();
+    auto addFacesAt = [&](VertexHandle w) {
+        for (const FaceHandle f : mMesh.vf_range(w)) {
+            if (mFaceMark[f.idx()] == mMark) continue;
+            mFaceMark[f.idx()] = mMark;
+            mAroundFaces.push_back(f);
+        }
+    };
+    for (const VertexHandle v : near) {
+        addFacesAt(v);
+        for (const VertexHandle w : mMesh.vv_range(v)) addFacesAt(w);
+    }
+}
+
+bool
+FoldGuard::foldsMore(std::initializer_list<VertexHandle> near,
+                     const std::vector<FaceHandle>& replaced, int centre, bool neighboursOnly)
+{
+    bool embedded = false;
+    if (looksUnfolded(mNewTriangles, mNeighbours, mNeighbourOf, centre, SHARP_TURN_COS,
+                      mSuspect, &embedded)) {
+        return false;
+    }
+    if (!neighboursOnly) {
+        collectAround(near, replaced);
+        mAroundTriangles.clear();
+        for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
+    }
+    const std::vector<CornerTriangle>& around = neighboursOnly ? mNeighbours : mAroundTriangles;
+    const int after = countCrossings(mNewTriangles, around, &mSuspect, embedded);
+    if (after == 0) return false;
+    mOldTriangles.clear();
+    for (const FaceHandle f : replaced) mOldTriangles.push_back(cornerTriangle(f));
+    return after > countCrossings(mOldTriangles, around);
+}
+
+bool
+FoldGuard::movedIntoFold(VertexHandle v, const std::vector<Point>& before)
+{
+    mFan.assign(mMesh.cvf_begin(v), mMesh.cvf_end(v));
+    clear();
+    for (const FaceHandle f : mFan) {
+        addNew(cornerTriangle(f));
+        addAcross(f, v, v);
+    }
+    bool embedded = false;
+    if (looksUnfolded(mNewTriangles, mNeighbours, mNeighbourOf, v.idx(), SHARP_TURN_COS,
+                      mSuspect, &embedded)) {
+        return false;
+    }
+    collectAround({v}, mFan);
+    mAroundTriangles.clear();
+    for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
+    const int after = countCrossings(mNewTriangles, mAroundTriangles, &mSuspect, embedded);
+    if (after == 0) return false;
+    // The same triangles where they were.
+    mOldTriangles.clear();
+    for (const FaceHandle f : mFan) mOldTriangles.push_back(cornerTriangle(f, before));
+    mAroundTriangles.clear();
+    for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f, before));
+    return after > countCrossings(mOldTriangles, mAroundTriangles);
+}
+
+} // namespace vdbi
