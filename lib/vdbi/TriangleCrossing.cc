@@ -21,6 +21,13 @@ orient(const Point& a, const Point& b, const Point& c, const Point& d)
     return ((b - a) % (c - a)) | (d - a);
 }
 
+/// How many corners @a s and @a t have in common.
+inline int
+sharedCorners(const CornerTriangle& s, const CornerTriangle& t)
+{
+    return s.hasCorner(t.id[0]) + s.hasCorner(t.id[1]) + s.hasCorner(t.id[2]);
+}
+
 /// Are @a a and @a b strictly on opposite sides of zero?
 inline bool
 opposite(double a, double b)
@@ -189,9 +196,7 @@ countCrossings(const std::vector<CornerTriangle>& changed,
         for (std::size_t j = 0; j < changed.size(); ++j) {
             if (j == i || (j < i && (!suspect || (*suspect)[j]))) continue;
             const CornerTriangle& t = changed[j];
-            if (embedded && s.hasCorner(t.id[0]) + s.hasCorner(t.id[1]) + s.hasCorner(t.id[2]) < 2) {
-                continue;
-            }
+            if (embedded && sharedCorners(s, t) < 2) continue;
             count += trianglesCross(s, t);
         }
     }
@@ -249,12 +254,8 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
         }
     } else {
         for (std::size_t i = 0; i < count; ++i) {
-            const CornerTriangle& s = fan[i];
             for (std::size_t j = i + 1; j < count; ++j) {
-                const CornerTriangle& t = fan[j];
-                if (s.hasCorner(t.id[0]) + s.hasCorner(t.id[1]) + s.hasCorner(t.id[2]) >= 2) {
-                    compare(i, j);
-                }
+                if (sharedCorners(fan[i], fan[j]) >= 2) compare(i, j);
             }
         }
     }
