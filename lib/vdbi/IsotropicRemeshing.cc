@@ -511,8 +511,9 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     mFolds.addNew(CornerTriangle(p0, pd, pc, v0.idx(), d.idx(), c.idx()));
     mFolds.addNew(CornerTriangle(pd, p1, pc, d.idx(), v1.idx(), c.idx()));
     // The diamond's sides (v1, c), (c, v0), (v0, d), (d, v1) and the new triangle of each.
-    const HalfedgeHandle sides[4] = {mMesh.next_halfedge_handle(h0), mMesh.prev_halfedge_handle(h0),
-                                     mMesh.next_halfedge_handle(h1), mMesh.prev_halfedge_handle(h1)};
+    const HalfedgeHandle sides[4] = {
+        mMesh.next_halfedge_handle(h0), mMesh.prev_halfedge_handle(h0),
+        mMesh.next_halfedge_handle(h1), mMesh.prev_halfedge_handle(h1)};
     const int newOf[4] = {1, 0, 0, 1};
     for (int k = 0; k < 4; ++k) {
         const FaceHandle o = mMesh.opposite_face_handle(sides[k]);
@@ -658,7 +659,8 @@ IsotropicRemesher::projectToReference()
         if (!isFree(v)) continue;
         kept[v.idx()] = 1;
         std::uint32_t& start = mPatch.refTriangle(v);
-        ReferenceSurface::Hit hit = mPatch.reference().closestPointNear(toVec(mMesh.point(v)), start);
+        ReferenceSurface::Hit hit =
+            mPatch.reference().closestPointNear(toVec(mMesh.point(v)), start);
         // A move that turns the normal away from the vertex's anchor crosses a crease and
         // would cut it off (vertices drift away from corners and tips): halve it, else stay.
         const Point& anchor = mPatch.anchor(v);

@@ -132,7 +132,8 @@ validateMesh(const InterfaceMesh& mesh)
             || p.triangleCount > mesh.triangles.size() - p.firstTriangle)
         {
             OPENVDB_THROW(openvdb::ValueError, "invalid InterfaceMesh: patch (" << p.a << ", "
-                << p.b << ") covers triangles beyond the " << mesh.triangles.size() << " there are");
+                << p.b << ") covers triangles beyond the " << mesh.triangles.size()
+                << " there are");
         }
         for (std::size_t t = p.firstTriangle; t < p.firstTriangle + p.triangleCount; ++t) {
             if (covered[t]++) {

@@ -118,7 +118,8 @@ ReferenceSurface::ReferenceSurface(std::vector<Vec3d> points,
     m.normals.assign(n, Vec3d(0.0));
     m.triangleStart.assign(n + 1, 0);
     for (const openvdb::Vec3I& t : m.triangles) {
-        const Vec3d normal = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]);
+        const Vec3d& a = m.points[t[0]];
+        const Vec3d normal = (m.points[t[1]] - a).cross(m.points[t[2]] - a);
         for (int i = 0; i < 3; ++i) {
             m.normals[t[i]] += normal;
             ++m.triangleStart[t[i] + 1];
