@@ -2,6 +2,8 @@
 
 #include <vdbi/PatchSeparation.h>
 
+#include <vdbi/TriangleCrossing.h>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -16,54 +18,41 @@ namespace {
 
 using Vec3d = openvdb::Vec3d;
 
-/// Six times the signed volume of tetrahedron (a, b, c, d): > 0 when d is on the side of
-/// triangle (a, b, c) its counter-clockwise normal points to.
-inline double
-orient(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& d)
+/// Triangle @a t as trianglesCross() takes it, turned around (two corners swapped) if @a flip.
+CornerTriangle
+cornerTriangle(const PointArray& points, const openvdb::Vec3I& t, bool flip)
 {
-    return (b - a).cross(c - a).dot(d - a);
+    const int i = flip ? 2 : 1, j = flip ? 1 : 2;
+    return CornerTriangle(toPoint(points[t[0]]), toPoint(points[t[i]]), toPoint(points[t[j]]),
+                          int(t[0]), int(t[i]), int(t[j]));
 }
 
-/// Does segment pq pass through the inside of triangle abc (touching does not count)?
+/// Does @a t run along an edge of @a s in the same direction as @a s?
 bool
-segmentCrossesTriangle(const Vec3d& p, const Vec3d& q, const Vec3d& a, const Vec3d& b,
-                       const Vec3d& c)
+runsAlongSameWay(const openvdb::Vec3I& s, const openvdb::Vec3I& t)
 {
-    const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
-    if (!((dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0))) return false;
-    const double o1 = orient(p, q, a, b), o2 = orient(p, q, b, c), o3 = orient(p, q, c, a);
-    return (o1 > 0.0 && o2 > 0.0 && o3 > 0.0) || (o1 < 0.0 && o2 < 0.0 && o3 < 0.0);
-}
-
-/// Do triangles @a s and @a t cross other than in their shared corners? Triangles sharing
-/// an edge are left alone (they can only meet elsewhere when they lie in one plane).
-bool
-trianglesCross(const PointArray& points, const openvdb::Vec3I& s,
-               const openvdb::Vec3I& t)
-{
-    int shared = 0, si = -1, ti = -1;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            if (s[i] == t[j]) {
-                ++shared;
-                si = i;
-                ti = j;
-            }
+            if (s[i] == t[j] && s[(i + 1) % 3] == t[(j + 1) % 3]) return true;
         }
     }
-    if (shared >= 2) return false;
-    auto edgeCrosses = [&](const openvdb::Vec3I& e, int i, const openvdb::Vec3I& f) {
-        return segmentCrossesTriangle(points[e[i]], points[e[(i + 1) % 3]], points[f[0]],
-                                      points[f[1]], points[f[2]]);
-    };
-    if (shared == 1) {
-        // Only the edges opposite the shared corner can meet the other triangle elsewhere.
-        return edgeCrosses(s, (si + 1) % 3, t) || edgeCrosses(t, (ti + 1) % 3, s);
-    }
-    for (int i = 0; i < 3; ++i) {
-        if (edgeCrosses(s, i, t) || edgeCrosses(t, i, s)) return true;
-    }
     return false;
+}
+
+/// @brief Do triangles @a s and @a t meet other than in the corners and edges they share?
+/// @details trianglesCross() (TriangleCrossing.h), which reads a fold of two triangles
+/// sharing an edge from normals turned by almost 180 degrees: that holds for two triangles
+/// running along the edge in opposite directions, as within a consistently oriented patch.
+/// Every patch is oriented by its own label pair, so a triangle of another patch running
+/// along the edge the same way is turned around first. A triangle without area has no plane
+/// to test the other against, so it is passed second.
+bool
+trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t)
+{
+    CornerTriangle first = cornerTriangle(points, s, false);
+    CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
+    if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
+    return trianglesCross(first, second);
 }
 
 /// Calls @a body(c, begin, end) for chunk c = [begin, end) of [0, count) in chunks of fixed
@@ -141,13 +130,29 @@ public:
         mCellStart.push_back(entries.size());
     }
 
-    /// @brief Every pair (first < second) of crossing triangles of different patches
+    /// @brief Calls @a body(g) once for every triangle g != @a f sharing a cell with @a f.
+    template<typename Body>
+    void forEachNeighbour(std::uint32_t f, const Body& body) const
+    {
+        for (auto k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
+            const std::uint32_t cellIndex = mTriangleCells[k];
+            for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
+                const std::uint32_t g = mCellTriangles[j];
+                if (g == f) continue;
+                // A pair sharing several cells is taken in the lowest one.
+                openvdb::Vec3i lo;
+                for (int i = 0; i < 3; ++i) lo[i] = std::max(mLow[f][i], mLow[g][i]);
+                if (key(lo) == mCellKeys[cellIndex]) body(g);
+            }
+        }
+    }
+
+    /// @brief Every pair (first < second) of meeting triangles of different patches
     /// (@a patchOf) sharing a cell with at least one of them active, once each, in the order
-    /// of the active triangle they were found from. Only the cells of active triangles are
-    /// visited.
+    /// of the active triangle they were found from.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>
-    crossingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
-                  const std::vector<std::uint32_t>& patchOf, bool threaded) const
+    meetingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
+                 const std::vector<std::uint32_t>& patchOf, bool threaded) const
     {
         const std::size_t count = active.size();
         std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> perChunk(
@@ -155,22 +160,13 @@ public:
         auto search = [&](std::size_t c, std::size_t begin, std::size_t end) {
             for (std::uint32_t f = std::uint32_t(begin); f < end; ++f) {
                 if (!active[f]) continue;
-                for (auto k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
-                    const std::uint32_t cellIndex = mTriangleCells[k];
-                    for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
-                        const std::uint32_t g = mCellTriangles[j];
-                        // Two active triangles: taken from the smaller one.
-                        if (patchOf[g] == patchOf[f] || (active[g] && g < f)) continue;
-                        // A pair sharing several cells is taken in the lowest one.
-                        openvdb::Vec3i lo;
-                        for (int i = 0; i < 3; ++i) lo[i] = std::max(mLow[f][i], mLow[g][i]);
-                        if (key(lo) != mCellKeys[cellIndex]) continue;
-                        if (!trianglesCross(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
-                            continue;
-                        }
+                forEachNeighbour(f, [&](std::uint32_t g) {
+                    // Two active triangles: taken from the smaller one.
+                    if (patchOf[g] == patchOf[f] || (active[g] && g < f)) return;
+                    if (trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
                         perChunk[c].emplace_back(std::min(f, g), std::max(f, g));
                     }
-                }
+                });
             }
         };
         forEachChunk(count, CHUNK, threaded, search);
@@ -244,17 +240,32 @@ separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
         const openvdb::Vec3I& t = mesh.triangles[f];
         return (mesh.points[t[1]] - mesh.points[t[0]]).cross(mesh.points[t[2]] - mesh.points[t[0]]);
     };
+    const CandidateGrid grid(mesh, settings.cellSize, settings.maxMove, settings.threaded);
+    // Pairs that meet among the triangles around v and those near them (TriangleCrossing.h's
+    // test, pairs within one patch too): a move may not add any.
+    auto meetingsAround = [&](std::uint32_t v) {
+        std::size_t count = 0;
+        const std::uint32_t *first = around.data() + start[v], *last = around.data() + start[v + 1];
+        for (const std::uint32_t* i = first; i != last; ++i) {
+            const std::uint32_t f = *i;
+            grid.forEachNeighbour(f, [&](std::uint32_t g) {
+                // A pair of two triangles around v is counted from the smaller one.
+                if (g < f && std::find(first, last, g) != last) return;
+                count += trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g]);
+            });
+        }
+        return count;
+    };
     const PointArray origin = mesh.points;
     std::vector<char> active(triangleCount, 1);
     std::vector<int> push(pointCount, 0);
     std::vector<std::uint32_t> pushed;
     std::vector<Vec3d> before;
     std::size_t crossing = 0;
-    const CandidateGrid grid(mesh, settings.cellSize, settings.maxMove, settings.threaded);
     for (int round = 0; round < settings.rounds; ++round) {
         crossing = 0;
         pushed.clear();
-        for (const auto& [f, g] : grid.crossingPairs(mesh, active, patchOf, settings.threaded)) {
+        for (const auto& [f, g] : grid.meetingPairs(mesh, active, patchOf, settings.threaded)) {
             ++crossing;
             const InterfacePatch &pf = mesh.patches[patchOf[f]], &pg = mesh.patches[patchOf[g]];
             Label shared;
@@ -294,12 +305,13 @@ separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
             for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
                 before.push_back(faceNormal(around[i]));
             }
+            const std::size_t meetings = meetingsAround(v);
             mesh.points[v] = next;
             bool turned = false;
             for (std::uint32_t i = start[v]; i < start[v + 1] && !turned; ++i) {
                 turned = !(faceNormal(around[i]).dot(before[i - start[v]]) > 0.0);
             }
-            if (turned) {
+            if (turned || meetingsAround(v) > meetings) {
                 mesh.points[v] = old;
                 continue;
             }

@@ -31,14 +31,18 @@ struct SeparationSettings
 /// @details Every patch is remeshed on its own, so near a curve shared with another patch the
 /// strip of triangles along the curve may swing through the other patch where the label
 /// between them is thin (a wedge of one voxel). Two such patches always share a label; the
-/// wedge of that label has turned inside out. Each round finds the crossing pairs (segment
-/// through triangle, shared corners excepted; a uniform grid gives the candidates) and moves
-/// each free corner of a crossing triangle one step along its vertex normal, away from the
-/// shared label: both sides turn back and the wedge opens. The grid is built once, every
-/// triangle's box widened by maxMove; a round tests only the pairs of triangles whose
-/// vertices moved in the round before. A move that would turn one of the
-/// vertex's triangles over, or take it farther than maxMove from its start, is not made.
-/// The crossing pairs are found in parallel; their pushes add up before any vertex moves, and
+/// wedge of that label has turned inside out. Each round finds the pairs of triangles of
+/// different patches that meet other than in shared corners and edges (trianglesCross() of
+/// TriangleCrossing.h: edges through triangles, triangles in one plane overlapping, and
+/// triangles sharing an edge folded onto each other; a uniform grid gives the candidates)
+/// and moves each free corner of such a triangle one step along its vertex normal, away
+/// from the shared label: both sides turn back and the wedge opens. The grid is built once,
+/// every triangle's box widened by maxMove; a round tests only the pairs of triangles whose
+/// vertices moved in the round before. A move is not made if it would turn one of the
+/// vertex's triangles over, take the vertex farther than maxMove from its start, or add to
+/// the pairs of triangles (of any patches, one of them the vertex's) that meet: a push
+/// through a third triangle is how separation used to make new crossings.
+/// The pairs are found in parallel; their pushes add up before any vertex moves, and
 /// vertices move serially in index order: the result depends on the mesh alone.
 /// @param mesh     [in,out] the remeshed patches
 /// @param movable  one flag per point: nonzero for a free (inner) vertex

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file TestPatchSeparation.cc
+/// @brief separatePatches() on hand-made patches, judged by the independent intersection
+/// checker (support/MeshIntersections.h): pairs it must resolve, and crossings it must not make.
+
+#include "support/MeshIntersections.h"
+
+#include <vdbi/PatchSeparation.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <set>
+#include <utility>
+#include <vector>
+
+using openvdb::Vec3d;
+using openvdb::Vec3I;
+
+class TestPatchSeparation : public ::testing::Test
+{
+};
+
+namespace {
+
+/// One patch (a, b) of consecutive triangles.
+struct PatchSpec
+{
+    vdbi::Label a, b;
+    std::vector<Vec3I> triangles;
+};
+
+vdbi::InterfaceMesh
+makeMesh(const std::vector<Vec3d>& points, const std::vector<PatchSpec>& patches)
+{
+    vdbi::InterfaceMesh mesh;
+    mesh.points.assign(points.begin(), points.end());
+    for (const PatchSpec& spec : patches) {
+        vdbi::InterfacePatch patch;
+        patch.a = spec.a;
+        patch.b = spec.b;
+        patch.firstTriangle = mesh.triangles.size();
+        patch.triangleCount = spec.triangles.size();
+        mesh.triangles.insert(mesh.triangles.end(), spec.triangles.begin(), spec.triangles.end());
+        mesh.patches.push_back(patch);
+    }
+    return mesh;
+}
+
+std::set<std::pair<std::uint32_t, std::uint32_t>>
+intersectingPairs(const vdbi::InterfaceMesh& mesh)
+{
+    std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (const auto& x : vdbi_test::findSelfIntersections(mesh, 1.0, std::size_t(-1))) {
+        pairs.insert({x.first, x.second});
+    }
+    return pairs;
+}
+
+Vec3d
+normalOf(const vdbi::InterfaceMesh& mesh, std::size_t t)
+{
+    const Vec3I& tri = mesh.triangles[t];
+    return (mesh.points[tri[1]] - mesh.points[tri[0]]).cross(mesh.points[tri[2]] - mesh.points[tri[0]]);
+}
+
+/// Locked points stay, none moves farther than @a maxMove, no triangle turns over.
+void
+expectAllowedMoves(const vdbi::InterfaceMesh& before, const vdbi::InterfaceMesh& after,
+                   const std::vector<std::uint8_t>& movable, double maxMove)
+{
+    for (std::size_t v = 0; v < before.points.size(); ++v) {
+        if (!movable[v]) EXPECT_EQ(after.points[v], before.points[v]) << "point " << v;
+        EXPECT_LE((after.points[v] - before.points[v]).length(), maxMove + 1e-12) << "point " << v;
+    }
+    for (std::size_t t = 0; t < before.triangles.size(); ++t) {
+        EXPECT_GT(normalOf(after, t).dot(normalOf(before, t)), 0.0) << "triangle " << t;
+    }
+}
+
+vdbi::SeparationSettings
+unitSettings()
+{
+    vdbi::SeparationSettings settings;
+    settings.cellSize = 1.0;
+    settings.step = 0.1;
+    settings.maxMove = 0.4;
+    return settings;
+}
+
+} // namespace
+
+// Patches (0, 1) and (1, 2) share the curve edge 0-1; their triangles on it lie in one plane
+// on the same side of it, folded onto each other (label 1 between them has no thickness).
+// Triangles sharing an edge used to be skipped; the pair is pushed open now: the free
+// corner of (0, 1) moves away from label 1, that of (1, 2) too, and the fold opens.
+TEST_F(TestPatchSeparation, testFoldOnSharedEdgeOpens)
+{
+    const std::vector<Vec3d> points = {Vec3d(0, 0, 0), Vec3d(2, 0, 0),     // curve samples
+                                       Vec3d(1, 1, 0), Vec3d(1.2, 0.9, 0)};
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{0, 1, {Vec3I(0, 1, 2)}},
+                                                 {1, 2, {Vec3I(0, 1, 3)}}});
+    // The checker sees the fold: known-bad input.
+    ASSERT_TRUE(vdbi_test::trianglesIntersect(mesh.points, mesh.triangles[0], mesh.triangles[1]));
+
+    const vdbi::InterfaceMesh before = mesh;
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 1};
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, unitSettings()), 0u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    expectAllowedMoves(before, mesh, movable, 0.4);
+    // Both normals point +z; label 1 is above (0, 1) and below (1, 2): each corner went away
+    // from it.
+    EXPECT_LT(mesh.points[2].z(), 0.0);
+    EXPECT_GT(mesh.points[3].z(), 0.0);
+}
+
+// Curve edge 0-1 of patch (0, 1) runs through a triangle of (1, 2) whose corners are all
+// curve samples: no move of an inner vertex can resolve that pair, so separation keeps
+// pushing the free corner 2 of (0, 1) away from label 1 (down), up to the limit. A locked
+// triangle of a third patch lies 0.25 below corner 2: pushed on, the triangle of (0, 1)
+// would go through it. No move may add a pair that meets, so corner 2 stops above it and
+// no pair intersects afterwards that did not before.
+TEST_F(TestPatchSeparation, testNoPushThroughThirdTriangle)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(1, 1, 0),                                // (0, 1)
+        Vec3d(1, -0.3, -0.5), Vec3d(1, 0.3, -0.5), Vec3d(1, 0, 0.5),                   // (1, 2)
+        Vec3d(0.3, 0.5, -0.25), Vec3d(1.7, 0.5, -0.25), Vec3d(1, 1.6, -0.25)};         // (0, 5)
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{0, 1, {Vec3I(0, 1, 2)}},
+                                                 {1, 2, {Vec3I(3, 4, 5)}},
+                                                 {0, 5, {Vec3I(6, 7, 8)}}});
+    const auto pairsBefore = intersectingPairs(mesh);
+    ASSERT_EQ(pairsBefore, (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 1}}));
+
+    const vdbi::InterfaceMesh before = mesh;
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 0, 0, 0, 0, 0, 0};
+    vdbi::separatePatches(mesh, movable, unitSettings());
+    EXPECT_EQ(intersectingPairs(mesh), pairsBefore);
+    expectAllowedMoves(before, mesh, movable, 0.4);
+    // It did move, as far as it could.
+    EXPECT_LT(mesh.points[2].z(), -0.15);
+    EXPECT_GT(mesh.points[2].z(), -0.25);
+}
