@@ -76,6 +76,8 @@ FoldGuard::collectAround(std::initializer_list<VertexHandle> near,
         addFacesAt(v);
         for (const VertexHandle w : mMesh.vv_range(v)) addFacesAt(w);
     }
+    mAroundTriangles.clear();
+    for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
 }
 
 bool
@@ -89,8 +91,6 @@ FoldGuard::foldsMore(std::initializer_list<VertexHandle> near,
     }
     if (!neighboursOnly) {
         collectAround(near, replaced);
-        mAroundTriangles.clear();
-        for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
     }
     const std::vector<CornerTriangle>& around = neighboursOnly ? mNeighbours : mAroundTriangles;
     const int after = countCrossings(mNewTriangles, around, &mSuspect, embedded);
@@ -115,8 +115,6 @@ FoldGuard::movedIntoFold(VertexHandle v, const std::vector<Point>& before)
         return false;
     }
     collectAround({v}, mFan);
-    mAroundTriangles.clear();
-    for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
     const int after = countCrossings(mNewTriangles, mAroundTriangles, &mSuspect, embedded);
     if (after == 0) return false;
     // The same triangles where they were.

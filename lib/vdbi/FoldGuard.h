@@ -60,7 +60,7 @@ public:
 
 private:
     /// The faces with a corner on or next to one of @a near, other than @a skip, into
-    /// mAroundFaces.
+    /// mAroundFaces, and as triangles at the current positions into mAroundTriangles.
     void collectAround(std::initializer_list<VertexHandle> near,
                        const std::vector<FaceHandle>& skip);
 
