@@ -347,6 +347,11 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1);
     const bool moves = toMidpoint && isFree(v1);
     position = moves ? (p0 + p1) * 0.5 : p1;
+    // An edge under half the target is out of the range the result is judged by (0.5 to
+    // 1.5 x target): it may go even where that makes edges up to 1.5 x target, which the
+    // next round splits (a needle next to long edges otherwise stays).
+    const double high2 = (p1 - p0).sqrnorm() < 0.25 * mSettings.target * mSettings.target
+        ? 2.25 * mSettings.target * mSettings.target : mSettings.high2;
     const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
     const VertexHandle vr = mMesh.to_vertex_handle(
         mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(h)));
@@ -359,12 +364,12 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
         lockedRing = lockedRing && isLocked(w);
         if (w == v1 || w == vl || w == vr) continue;
         if (isLocked(v1) && isLocked(w) && !mPatch.mayJoinLocked(v1, w)) return false;
-        if ((mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
+        if ((mMesh.point(w) - position).sqrnorm() > high2) return false;
     }
     if (lockedRing) return false;
     if (moves) {
         for (const VertexHandle w : mMesh.vv_range(v1)) {
-            if (w != v0 && (mMesh.point(w) - position).sqrnorm() > mSettings.high2) return false;
+            if (w != v0 && (mMesh.point(w) - position).sqrnorm() > high2) return false;
         }
     }
     if (!isCollapseOk(mMesh, h)) return false;   // link condition: stays a 2-manifold
