@@ -347,9 +347,10 @@ private:
     }
 
     /// @brief Moves corner @a v of meeting pairs, pushed @a direction times away from shared
-    /// labels: one step along its normal that way if that adds no meeting pair, else the
-    /// first of these that removes one: to the mean of its neighbours (kept within maxMove
-    /// of its start), one step along its normal, one step against it.
+    /// labels, to the first of these that leaves fewer meeting pairs around it: one step
+    /// along its normal that way, the mean of its neighbours (kept within maxMove of its
+    /// start), half way there. Else the step that way if it adds no meeting pair (a wedge
+    /// opens over several rounds); else a step along or against the normal that removes one.
     bool moveCorner(std::uint32_t v, int direction)
     {
         Vec3d normal(0.0);
@@ -357,19 +358,23 @@ private:
             normal += faceNormal(mAround[i]);
         }
         const double length = normal.length();
-        const Vec3d unit = length > 0.0 ? normal / length : Vec3d(0.0);
-        const Vec3d here = mMesh.points[v], step = unit * mSettings.step;
+        const Vec3d here = mMesh.points[v];
+        const Vec3d step = length > 0.0 ? normal * (mSettings.step / length) : Vec3d(0.0);
+        const bool pushed = direction != 0 && length > 0.0;
+        const Vec3d push = direction > 0 ? here + step : here - step;
         const std::size_t meetings = meetingsAround(v);
-        if (direction != 0 && length > 0.0
-            && moveTo(v, direction > 0 ? here + step : here - step, normal, meetings)) {
-            return true;
+        if (meetings > 0) {
+            const Vec3d mean = towardsNeighbours(v);
+            if ((pushed && moveTo(v, push, normal, meetings - 1))
+                || moveTo(v, mean, normal, meetings - 1)
+                || moveTo(v, (here + mean) * 0.5, normal, meetings - 1)) {
+                return true;
+            }
         }
-        if (meetings == 0) return false;
-        if (moveTo(v, towardsNeighbours(v), normal, meetings - 1)) return true;
-        if (length > 0.0 && direction <= 0 && moveTo(v, here + step, normal, meetings - 1)) {
-            return true;
-        }
-        return length > 0.0 && direction >= 0 && moveTo(v, here - step, normal, meetings - 1);
+        if (pushed && moveTo(v, push, normal, meetings)) return true;
+        if (meetings == 0 || !(length > 0.0)) return false;
+        return (direction <= 0 && moveTo(v, here + step, normal, meetings - 1))
+            || (direction >= 0 && moveTo(v, here - step, normal, meetings - 1));
     }
 
     /// The mean of the other corners of the triangles around @a v, pulled back to within
