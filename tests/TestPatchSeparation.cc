@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <set>
 #include <utility>
@@ -140,4 +141,57 @@ TEST_F(TestPatchSeparation, testNoPushThroughThirdTriangle)
     // It did move, as far as it could.
     EXPECT_LT(mesh.points[2].z(), -0.15);
     EXPECT_GT(mesh.points[2].z(), -0.25);
+}
+
+// One patch: a fan of six triangles around a free centre whose locked ring is a hexagon in
+// the plane z = 0. The centre lies beyond ring point 0, so the two triangles at that point
+// face down and overlap their neighbours (a fold within one patch). Separation used to look
+// only at pairs of two patches; the centre now moves to the mean of its ring and the fan
+// opens: no pair meets, every triangle faces up.
+TEST_F(TestPatchSeparation, testFoldedFanOpens)
+{
+    std::vector<Vec3d> points = {Vec3d(1.2, 0, 0)};   // the centre
+    for (int i = 0; i < 6; ++i) {
+        const double angle = i * M_PI / 3.0;
+        points.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+    }
+    std::vector<Vec3I> fan;
+    for (int i = 0; i < 6; ++i) fan.emplace_back(0, 1 + i, 1 + (i + 1) % 6);
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{0, 1, fan}});
+    ASSERT_FALSE(intersectingPairs(mesh).empty());
+    ASSERT_LT(normalOf(mesh, 0).z(), 0.0);
+
+    const vdbi::InterfaceMesh before = mesh;
+    const std::vector<std::uint8_t> movable = {1, 0, 0, 0, 0, 0, 0};
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 1.5;
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings), 0u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        EXPECT_GT(normalOf(mesh, t).z(), 0.0) << "triangle " << t;
+    }
+    for (std::size_t v = 1; v < points.size(); ++v) EXPECT_EQ(mesh.points[v], before.points[v]);
+    EXPECT_LE((mesh.points[0] - before.points[0]).length(), settings.maxMove);
+}
+
+// Patches (0, 1) and (2, 3) share no label, so there is no way "away from the shared label".
+// Corner 2 of (0, 1) sticks through the locked triangle of (2, 3) in the plane y = 1.5.
+// The push needs a shared label and the mean of corner 2's neighbours (the midpoint of the
+// opposite edge) would flatten its triangle; half way there the pair no longer meets.
+TEST_F(TestPatchSeparation, testPatchesSharingNoLabelSeparate)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(1, 1.6, 0),                              // (0, 1)
+        Vec3d(0, 1.5, -1), Vec3d(2, 1.5, -1), Vec3d(1, 1.5, 1)};                       // (2, 3)
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{0, 1, {Vec3I(0, 1, 2)}},
+                                                 {2, 3, {Vec3I(3, 4, 5)}}});
+    ASSERT_EQ(intersectingPairs(mesh), (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 1}}));
+
+    const vdbi::InterfaceMesh before = mesh;
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 0, 0, 0};
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 1.0;
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings), 0u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    expectAllowedMoves(before, mesh, movable, settings.maxMove);
 }

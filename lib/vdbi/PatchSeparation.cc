@@ -147,12 +147,11 @@ public:
         }
     }
 
-    /// @brief Every pair (first < second) of meeting triangles of different patches
-    /// (@a patchOf) sharing a cell with at least one of them active, once each, in the order
-    /// of the active triangle they were found from.
+    /// @brief Every pair (first < second) of meeting triangles, of one patch or of two,
+    /// sharing a cell with at least one of them active, once each, in the order of the
+    /// active triangle they were found from.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>
-    meetingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
-                 const std::vector<std::uint32_t>& patchOf, bool threaded) const
+    meetingPairs(const InterfaceMesh& mesh, const std::vector<char>& active, bool threaded) const
     {
         const std::size_t count = active.size();
         std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> perChunk(
@@ -162,7 +161,7 @@ public:
                 if (!active[f]) continue;
                 forEachNeighbour(f, [&](std::uint32_t g) {
                     // Two active triangles: taken from the smaller one.
-                    if (patchOf[g] == patchOf[f] || (active[g] && g < f)) return;
+                    if (active[g] && g < f) return;
                     if (trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
                         perChunk[c].emplace_back(std::min(f, g), std::max(f, g));
                     }
@@ -213,6 +212,203 @@ private:
     std::vector<std::uint32_t> mTriangleCells;
 };
 
+/// @brief The state of separatePatches(): the triangles around every point, the candidate
+/// grid, and where every point started.
+class Separation
+{
+public:
+    Separation(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+               const SeparationSettings& settings)
+        : mMesh(mesh), mMovable(movable), mSettings(settings), mOrigin(mesh.points)
+        , mPatchOf(mesh.triangles.size())
+        , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
+    {
+        for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
+            const InterfacePatch& patch = mesh.patches[p];
+            std::fill_n(mPatchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
+        }
+        const std::size_t pointCount = mesh.points.size();
+        mStart.assign(pointCount + 1, 0);
+        mAround.resize(3 * mesh.triangles.size());
+        for (const openvdb::Vec3I& t : mesh.triangles) {
+            for (int i = 0; i < 3; ++i) ++mStart[t[i] + 1];
+        }
+        for (std::size_t v = 0; v < pointCount; ++v) mStart[v + 1] += mStart[v];
+        std::vector<std::uint32_t> fill(mStart.begin(), mStart.end() - 1);
+        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+            for (int i = 0; i < 3; ++i) mAround[fill[mesh.triangles[f][i]]++] = f;
+        }
+    }
+
+    /// The rounds; returns the meeting pairs found in the last one.
+    std::size_t run()
+    {
+        const std::size_t pointCount = mMesh.points.size();
+        std::vector<char> active(mMesh.triangles.size(), 1), listed(pointCount, 0);
+        std::vector<int> push(pointCount, 0);
+        std::vector<std::uint32_t> corners;
+        std::size_t crossing = 0;
+        for (int round = 0; round < mSettings.rounds; ++round) {
+            const auto pairs = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
+            crossing = pairs.size();
+            if (crossing == 0) break;
+            corners.clear();
+            for (const auto& [f, g] : pairs) {
+                for (const std::uint32_t h : {f, g}) {
+                    const int away = awayFromSharedLabel(h, h == f ? g : f);
+                    for (int i = 0; i < 3; ++i) {
+                        const std::uint32_t v = mMesh.triangles[h][i];
+                        if (!mMovable[v]) continue;
+                        if (!listed[v]) corners.push_back(v);
+                        listed[v] = 1;
+                        push[v] += away;
+                    }
+                }
+            }
+            std::fill(active.begin(), active.end(), 0);
+            std::sort(corners.begin(), corners.end());
+            bool moved = false;
+            for (const std::uint32_t v : corners) {
+                listed[v] = 0;
+                const int direction = push[v];
+                push[v] = 0;
+                if (!moveCorner(v, direction)) continue;
+                for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) active[mAround[i]] = 1;
+                moved = true;
+            }
+            if (!moved) break;
+        }
+        return crossing;
+    }
+
+private:
+    /// +1 or -1: which way along the normal of triangle @a h is away from the label its patch
+    /// shares with that of @a other (the normal points from a into b); 0 for triangles of one
+    /// patch, or of patches sharing no label.
+    int awayFromSharedLabel(std::uint32_t h, std::uint32_t other) const
+    {
+        const InterfacePatch &p = mMesh.patches[mPatchOf[h]], &q = mMesh.patches[mPatchOf[other]];
+        if (mPatchOf[h] == mPatchOf[other]) return 0;
+        if (p.a == q.a || p.a == q.b) return 1;
+        if (p.b == q.a || p.b == q.b) return -1;
+        return 0;
+    }
+
+    Vec3d faceNormal(std::uint32_t f) const
+    {
+        const openvdb::Vec3I& t = mMesh.triangles[f];
+        const PointArray& points = mMesh.points;
+        return (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    }
+
+    /// Pairs that meet among the triangles around @a v and those near them (TriangleCrossing.h's
+    /// test, pairs within one patch too): a move may not add any.
+    std::size_t meetingsAround(std::uint32_t v) const
+    {
+        std::size_t count = 0;
+        const std::uint32_t *first = mAround.data() + mStart[v],
+                            *last = mAround.data() + mStart[v + 1];
+        for (const std::uint32_t* i = first; i != last; ++i) {
+            const std::uint32_t f = *i;
+            mGrid.forEachNeighbour(f, [&](std::uint32_t g) {
+                // A pair of two triangles around v is counted from the smaller one.
+                if (g < f && std::find(first, last, g) != last) return;
+                count += trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
+            });
+        }
+        return count;
+    }
+
+    /// @brief Moves @a v to @a next if that leaves at most @a limit meeting pairs around it,
+    /// keeps it within maxMove of its start and turns no triangle around it over.
+    /// @details A triangle that faced against the vertex normal @a normal (a fold, or no
+    /// area) may turn to face with it: that is how a folded fan opens.
+    bool moveTo(std::uint32_t v, const Vec3d& next, const Vec3d& normal, std::size_t limit)
+    {
+        if ((next - mOrigin[v]).length() > mSettings.maxMove) return false;
+        mBefore.clear();
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            mBefore.push_back(faceNormal(mAround[i]));
+        }
+        const Vec3d old = mMesh.points[v];
+        mMesh.points[v] = next;
+        bool turned = false;
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1] && !turned; ++i) {
+            const Vec3d& before = mBefore[i - mStart[v]];
+            const Vec3d after = faceNormal(mAround[i]);
+            turned = !(after.dot(before) > 0.0)
+                && !(before.dot(normal) <= 0.0 && after.dot(normal) > 0.0);
+        }
+        if (turned || meetingsAround(v) > limit) {
+            mMesh.points[v] = old;
+            return false;
+        }
+        return true;
+    }
+
+    /// @brief Moves corner @a v of meeting pairs, pushed @a direction times away from shared
+    /// labels, to the first of these that leaves fewer meeting pairs around it: one step
+    /// along its normal that way, the mean of its neighbours (kept within maxMove of its
+    /// start), half way there. Else the step that way if it adds no meeting pair (a wedge
+    /// opens over several rounds); else a step along or against the normal that removes one.
+    bool moveCorner(std::uint32_t v, int direction)
+    {
+        Vec3d normal(0.0);
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            normal += faceNormal(mAround[i]);
+        }
+        const double length = normal.length();
+        const Vec3d here = mMesh.points[v];
+        const Vec3d step = length > 0.0 ? normal * (mSettings.step / length) : Vec3d(0.0);
+        const bool pushed = direction != 0 && length > 0.0;
+        const Vec3d push = direction > 0 ? here + step : here - step;
+        const std::size_t meetings = meetingsAround(v);
+        if (meetings > 0) {
+            const Vec3d mean = towardsNeighbours(v);
+            if ((pushed && moveTo(v, push, normal, meetings - 1))
+                || moveTo(v, mean, normal, meetings - 1)
+                || moveTo(v, (here + mean) * 0.5, normal, meetings - 1)) {
+                return true;
+            }
+        }
+        if (pushed && moveTo(v, push, normal, meetings)) return true;
+        if (meetings == 0 || !(length > 0.0)) return false;
+        return (direction <= 0 && moveTo(v, here + step, normal, meetings - 1))
+            || (direction >= 0 && moveTo(v, here - step, normal, meetings - 1));
+    }
+
+    /// The mean of the other corners of the triangles around @a v, pulled back to within
+    /// maxMove of where @a v started.
+    Vec3d towardsNeighbours(std::uint32_t v) const
+    {
+        Vec3d sum(0.0);
+        double weight = 0.0;
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            const openvdb::Vec3I& t = mMesh.triangles[mAround[i]];
+            for (int k = 0; k < 3; ++k) {
+                if (t[k] == v) continue;
+                sum += mMesh.points[t[k]];
+                weight += 1.0;
+            }
+        }
+        if (weight == 0.0) return mMesh.points[v];
+        const Vec3d offset = sum / weight - mOrigin[v];
+        const double distance = offset.length();
+        if (distance <= mSettings.maxMove) return mOrigin[v] + offset;
+        return mOrigin[v] + offset * (mSettings.maxMove / distance);
+    }
+
+    InterfaceMesh& mMesh;
+    const std::vector<std::uint8_t>& mMovable;
+    const SeparationSettings& mSettings;
+    const PointArray mOrigin;
+    std::vector<std::uint32_t> mPatchOf;
+    const CandidateGrid mGrid;
+    /// Triangles around every point: mAround[mStart[v] .. mStart[v + 1]).
+    std::vector<std::uint32_t> mStart, mAround;
+    std::vector<Vec3d> mBefore;
+};
+
 } // namespace
 
 
@@ -220,107 +416,7 @@ std::size_t
 separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                 const SeparationSettings& settings)
 {
-    const std::size_t pointCount = mesh.points.size(), triangleCount = mesh.triangles.size();
-    std::vector<std::uint32_t> patchOf(triangleCount);
-    for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
-        const InterfacePatch& patch = mesh.patches[p];
-        for (std::size_t t = 0; t < patch.triangleCount; ++t) patchOf[patch.firstTriangle + t] = p;
-    }
-    // Triangles around every point, CSR.
-    std::vector<std::uint32_t> start(pointCount + 1, 0), around(3 * triangleCount);
-    for (const openvdb::Vec3I& t : mesh.triangles) for (int i = 0; i < 3; ++i) ++start[t[i] + 1];
-    for (std::size_t v = 0; v < pointCount; ++v) start[v + 1] += start[v];
-    {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::uint32_t f = 0; f < triangleCount; ++f) {
-            for (int i = 0; i < 3; ++i) around[fill[mesh.triangles[f][i]]++] = f;
-        }
-    }
-    auto faceNormal = [&](std::uint32_t f) {
-        const openvdb::Vec3I& t = mesh.triangles[f];
-        return (mesh.points[t[1]] - mesh.points[t[0]]).cross(mesh.points[t[2]] - mesh.points[t[0]]);
-    };
-    const CandidateGrid grid(mesh, settings.cellSize, settings.maxMove, settings.threaded);
-    // Pairs that meet among the triangles around v and those near them (TriangleCrossing.h's
-    // test, pairs within one patch too): a move may not add any.
-    auto meetingsAround = [&](std::uint32_t v) {
-        std::size_t count = 0;
-        const std::uint32_t *first = around.data() + start[v], *last = around.data() + start[v + 1];
-        for (const std::uint32_t* i = first; i != last; ++i) {
-            const std::uint32_t f = *i;
-            grid.forEachNeighbour(f, [&](std::uint32_t g) {
-                // A pair of two triangles around v is counted from the smaller one.
-                if (g < f && std::find(first, last, g) != last) return;
-                count += trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g]);
-            });
-        }
-        return count;
-    };
-    const PointArray origin = mesh.points;
-    std::vector<char> active(triangleCount, 1);
-    std::vector<int> push(pointCount, 0);
-    std::vector<std::uint32_t> pushed;
-    std::vector<Vec3d> before;
-    std::size_t crossing = 0;
-    for (int round = 0; round < settings.rounds; ++round) {
-        crossing = 0;
-        pushed.clear();
-        for (const auto& [f, g] : grid.meetingPairs(mesh, active, patchOf, settings.threaded)) {
-            ++crossing;
-            const InterfacePatch &pf = mesh.patches[patchOf[f]], &pg = mesh.patches[patchOf[g]];
-            Label shared;
-            if (pf.a == pg.a || pf.a == pg.b) shared = pf.a;
-            else if (pf.b == pg.a || pf.b == pg.b) shared = pf.b;
-            else continue;
-            // The normal points from a into b: away from the shared label is against it when
-            // the shared label is b.
-            for (const std::uint32_t h : {f, g}) {
-                const InterfacePatch& patch = h == f ? pf : pg;
-                const int away = shared == patch.b ? -1 : 1;
-                for (int i = 0; i < 3; ++i) {
-                    const std::uint32_t v = mesh.triangles[h][i];
-                    if (!movable[v]) continue;
-                    if (push[v] == 0) pushed.push_back(v);
-                    push[v] += away;
-                }
-            }
-        }
-        if (crossing == 0) break;
-        std::fill(active.begin(), active.end(), 0);
-        std::sort(pushed.begin(), pushed.end());
-        bool moved = false;
-        for (const std::uint32_t v : pushed) {
-            const int direction = push[v];
-            push[v] = 0;
-            if (direction == 0) continue;
-            Vec3d normal(0.0);
-            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) normal += faceNormal(around[i]);
-            const double length = normal.length();
-            if (!(length > 0.0)) continue;
-            const Vec3d old = mesh.points[v];
-            const Vec3d next = old + normal * (settings.step * (direction > 0 ? 1.0 : -1.0)
-                                                / length);
-            if ((next - origin[v]).length() > settings.maxMove) continue;
-            before.clear();
-            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
-                before.push_back(faceNormal(around[i]));
-            }
-            const std::size_t meetings = meetingsAround(v);
-            mesh.points[v] = next;
-            bool turned = false;
-            for (std::uint32_t i = start[v]; i < start[v + 1] && !turned; ++i) {
-                turned = !(faceNormal(around[i]).dot(before[i - start[v]]) > 0.0);
-            }
-            if (turned || meetingsAround(v) > meetings) {
-                mesh.points[v] = old;
-                continue;
-            }
-            for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) active[around[i]] = 1;
-            moved = true;
-        }
-        if (!moved) break;
-    }
-    return crossing;
+    return Separation(mesh, movable, settings).run();
 }
 
 } // namespace vdbi

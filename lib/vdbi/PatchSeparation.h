@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file vdbi/PatchSeparation.h
-/// @brief After remeshing: triangles of two patches that cross each other near a shared
-/// feature curve are pushed apart by moving their inner vertices (ALGORITHM.md §5).
+/// @brief After remeshing: triangles that cross each other, of two patches near a shared
+/// feature curve or of one folded patch, are pushed apart by moving their inner vertices
+/// (ALGORITHM.md §5).
 
 #ifndef VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
 #define VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
@@ -27,26 +28,31 @@ struct SeparationSettings
     bool threaded = true;
 };
 
-/// @brief Moves inner vertices so that triangles of different patches cross less.
+/// @brief Moves inner vertices so that triangles cross less, of different patches or of one.
 /// @details Every patch is remeshed on its own, so near a curve shared with another patch the
 /// strip of triangles along the curve may swing through the other patch where the label
-/// between them is thin (a wedge of one voxel). Two such patches always share a label; the
-/// wedge of that label has turned inside out. Each round finds the pairs of triangles of
-/// different patches that meet other than in shared corners and edges (trianglesCross() of
-/// TriangleCrossing.h: edges through triangles, triangles in one plane overlapping, and
-/// triangles sharing an edge folded onto each other; a uniform grid gives the candidates)
-/// and moves each free corner of such a triangle one step along its vertex normal, away
-/// from the shared label: both sides turn back and the wedge opens. The grid is built once,
-/// every triangle's box widened by maxMove; a round tests only the pairs of triangles whose
-/// vertices moved in the round before. A move is not made if it would turn one of the
-/// vertex's triangles over, take the vertex farther than maxMove from its start, or add to
+/// between them is thin (a wedge of one voxel). Two such patches usually share a label; the
+/// wedge of that label has turned inside out. Each round finds the pairs of triangles that
+/// meet other than in shared corners and edges (trianglesCross() of TriangleCrossing.h:
+/// edges through triangles, triangles in one plane overlapping, and triangles sharing an
+/// edge folded onto each other; a uniform grid gives the candidates) and moves each free
+/// corner of such a triangle one step along its vertex normal, away from the shared label:
+/// both sides turn back and the wedge opens. A corner takes the first move that leaves fewer
+/// meeting pairs around it: that push, the mean of its neighbours (which opens a folded fan,
+/// as within one patch), half way there; else the push if it adds none; else a step along or
+/// against its normal that removes one. Pairs within one patch and of patches sharing no
+/// label have no push.
+/// The grid is built once, every triangle's box widened by maxMove; a round tests only the
+/// pairs of triangles whose vertices moved in the round before. A move is not made if it
+/// would turn one of the vertex's triangles over (one facing against the vertex normal may
+/// turn to face with it), take the vertex farther than maxMove from its start, or add to
 /// the pairs of triangles (of any patches, one of them the vertex's) that meet: a push
 /// through a third triangle is how separation used to make new crossings.
 /// The pairs are found in parallel; their pushes add up before any vertex moves, and
 /// vertices move serially in index order: the result depends on the mesh alone.
 /// @param mesh     [in,out] the remeshed patches
 /// @param movable  one flag per point: nonzero for a free (inner) vertex
-/// @return the number of crossing pairs left (of those looked at in the last round)
+/// @return the number of meeting pairs left (of those looked at in the last round)
 std::size_t separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                             const SeparationSettings& settings);
 
