@@ -38,7 +38,7 @@ constexpr int CURVE_SMOOTHING = 10, SURFACE_SMOOTHING = 10;
 /// by round; frog at 2 voxels: every raw face centre within 0.98 voxel of the result).
 constexpr double DEVIATION = 0.6;
 /// How far, in voxels, separatePatches() moves a vertex per round and at most.
-constexpr double SEPARATION_STEP = 0.1, SEPARATION_MOVE = 0.5;
+constexpr double SEPARATION_STEP = 0.1, SEPARATION_MOVE = 0.4;
 
 /// World size of one voxel per axis from the point keys: the smallest ratio of world to key
 /// distance along triangle edges parallel to that axis of the key grid; zeros without keys.
