@@ -437,7 +437,7 @@ TEST_F(TestRemeshing, testSampleVolumes)
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
 // voxel both ways and no intersecting triangles. Fails today (open): intersecting pairs on
-// every volume (frog at 2 voxels: 664, 164 within one patch; chr_knight at 1 voxel: 11 before
+// every volume (frog at 2 voxels: 404, 93 within one patch; chr_knight at 1 voxel: 11 before
 // the last change of the separation, not measured since), and raw faces up to 1.6 voxels from
 // the remeshed surface at 4 voxels (frog; within one voxel at 1 and 2). Takes minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
