@@ -62,7 +62,8 @@ Vec3d
 normalOf(const vdbi::InterfaceMesh& mesh, std::size_t t)
 {
     const Vec3I& tri = mesh.triangles[t];
-    return (mesh.points[tri[1]] - mesh.points[tri[0]]).cross(mesh.points[tri[2]] - mesh.points[tri[0]]);
+    const Vec3d& a = mesh.points[tri[0]];
+    return (mesh.points[tri[1]] - a).cross(mesh.points[tri[2]] - a);
 }
 
 /// Locked points stay, none moves farther than @a maxMove, no triangle turns over.
