@@ -243,65 +243,44 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
     }
 
-    // 4. Global indices of every block's keys (their owners' offsets plus their ranks), its
-    //    triangles at their places; then the points it numbers.
+    // 4. Per block, in one pass over its data: the global indices of its keys (their owners'
+    //    offsets plus their ranks), its triangles at their places, then the points it
+    //    numbers (its inside keys, then its face keys).
     mesh.points.resize(vertexOffset.back());
     if (options.pointKeys) mesh.pointKeys.resize(vertexOffset.back());
     std::atomic<bool> lostKey{false};
-    forEachChunk(blockCount, options.threaded, interrupt,
-                 [&](const tbb::blocked_range<std::size_t>& range) {
-        // Every key of a block gets its global index before the triangles read it.
-        extraction::UninitializedVector<std::uint32_t> global;
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
-            const BlockMesh& block = blocks[n];
-            global.resize(block.keys.size());
-            for (std::uint32_t i = 0; i < block.insideCount; ++i) {
-                global[i] = std::uint32_t(vertexOffset[n] + i);
-            }
-            for (int d = 0; d < 8; ++d) {
-                if (block.byOwner[d].empty()) continue;
-                const std::ptrdiff_t owner = d == 0 ? std::ptrdiff_t(n)
-                    : blockIndex(neighbourOrigin(n, d, 1));
-                if (owner < 0) {
-                    lostKey = true;
-                    continue;
-                }
-                const std::size_t offset = vertexOffset[std::size_t(owner)];
-                for (const std::uint32_t i : block.byOwner[d]) {
-                    global[i] = std::uint32_t(offset + block.rank[i - block.insideCount]);
-                }
-            }
-            if (block.corners32.empty()) {
-                scatterTriangles(block, block.corners16.data(), global.data(), start[n], mesh);
-            } else {
-                scatterTriangles(block, block.corners32.data(), global.data(), start[n], mesh);
-            }
-            // Only the keys the block numbers are read again: free the rest here, in
-            // parallel, rather than all at once at the end.
-            BlockMesh numbered;
-            numbered.keys = std::move(blocks[n].keys);
-            numbered.insideCount = blocks[n].insideCount;
-            numbered.faceKeys = std::move(blocks[n].faceKeys);
-            blocks[n] = std::move(numbered);
-        }
-    }, 8);
-    interrupt.throwIfStopped("extraction");
-    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
-
-    // A key k of block X is at coarse index (2s X + k) / 2s; voxel centres sit at integer
-    // indices in OpenVDB, so the cube of voxel c spans [c - 0.5, c + 0.5] there.
-    const openvdb::math::Transform& xform = labels.coarse->transform();
-    // The usual maps (axis-aligned scale, and offset, as from image files) are applied
-    // through their own types, whose applyMap() is final: no virtual call per point.
-    const auto* scale = dynamic_cast<const openvdb::math::ScaleMap*>(xform.baseMap().get());
-    const auto* scaleTranslate =
-        dynamic_cast<const openvdb::math::ScaleTranslateMap*>(xform.baseMap().get());
-    // One loop per kind of map: the map is chosen once, not per point.
-    auto writePoints = [&](const auto& toWorld) {
+    // @a toWorld maps a global key to world space.
+    auto finishBlocks = [&](const auto& toWorld) {
         forEachChunk(blockCount, options.threaded, interrupt,
                      [&](const tbb::blocked_range<std::size_t>& range) {
+            // Every key of a block gets its global index before the triangles read it.
+            extraction::UninitializedVector<std::uint32_t> global;
             for (std::size_t n = range.begin(); n < range.end(); ++n) {
                 BlockMesh& block = blocks[n];
+                global.resize(block.keys.size());
+                for (std::uint32_t i = 0; i < block.insideCount; ++i) {
+                    global[i] = std::uint32_t(vertexOffset[n] + i);
+                }
+                for (int d = 0; d < 8; ++d) {
+                    if (block.byOwner[d].empty()) continue;
+                    const std::ptrdiff_t owner = d == 0 ? std::ptrdiff_t(n)
+                        : blockIndex(neighbourOrigin(n, d, 1));
+                    if (owner < 0) {
+                        lostKey = true;
+                        continue;
+                    }
+                    const std::size_t offset = vertexOffset[std::size_t(owner)];
+                    for (const std::uint32_t i : block.byOwner[d]) {
+                        global[i] = std::uint32_t(offset + block.rank[i - block.insideCount]);
+                    }
+                }
+                if (block.corners32.empty()) {
+                    scatterTriangles(block, block.corners16.data(), global.data(), start[n],
+                                     mesh);
+                } else {
+                    scatterTriangles(block, block.corners32.data(), global.data(), start[n],
+                                     mesh);
+                }
                 const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
                     std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
                 // Points [first, first + count) from local keys @a local.
@@ -313,29 +292,43 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                         const VertexKey k = {base[0] + keyComponent(local[i], 0),
                             base[1] + keyComponent(local[i], 1),
                             base[2] + keyComponent(local[i], 2)};
-                        points[i] = toWorld(openvdb::Vec3d(double(k[0]) / double(K) - 0.5,
-                            double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5));
+                        points[i] = toWorld(k);
                         if (keys) keys[i] = k;
                     }
                 };
-                // Its inside keys, then its face keys (BlockMesh::faceKeys).
                 write(vertexOffset[n], block.keys.data(), block.insideCount);
                 write(vertexOffset[n] + block.insideCount, block.faceKeys.data(),
                       block.faceKeys.size());
+                // Freed here, in parallel, rather than all at once at the end.
                 block = BlockMesh();
             }
         }, 8);
     };
-    if (scale) {
-        writePoints([scale](const openvdb::Vec3d& index) { return scale->applyMap(index); });
-    } else if (scaleTranslate) {
-        writePoints([scaleTranslate](const openvdb::Vec3d& index) {
-            return scaleTranslate->applyMap(index);
+    // A key k of block X is at coarse index (2s X + k) / 2s; voxel centres sit at integer
+    // indices in OpenVDB, so the cube of voxel c spans [c - 0.5, c + 0.5] there.
+    const openvdb::math::Transform& xform = labels.coarse->transform();
+    // The usual maps (axis-aligned scale, and offset, as from image files) come down to
+    // world = k * step + offset per axis: no division and no virtual call per point.
+    const auto* scale = dynamic_cast<const openvdb::math::ScaleMap*>(xform.baseMap().get());
+    const auto* scaleTranslate =
+        dynamic_cast<const openvdb::math::ScaleTranslateMap*>(xform.baseMap().get());
+    if (scale || scaleTranslate) {
+        const openvdb::Vec3d voxel = scale ? scale->getScale() : scaleTranslate->getScale();
+        const openvdb::Vec3d step = voxel / double(K),
+            offset = (scale ? openvdb::Vec3d(0.0) : scaleTranslate->getTranslation())
+                - 0.5 * voxel;
+        finishBlocks([step, offset](const VertexKey& k) {
+            return openvdb::Vec3d(double(k[0]) * step[0] + offset[0],
+                double(k[1]) * step[1] + offset[1], double(k[2]) * step[2] + offset[2]);
         });
     } else {
-        writePoints([&xform](const openvdb::Vec3d& index) { return xform.indexToWorld(index); });
+        finishBlocks([&xform, K](const VertexKey& k) {
+            return xform.indexToWorld(openvdb::Vec3d(double(k[0]) / double(K) - 0.5,
+                double(k[1]) / double(K) - 0.5, double(k[2]) / double(K) - 0.5));
+        });
     }
     interrupt.throwIfStopped("extraction");
+    if (lostKey) throw TopologyError("extraction: a vertex key has no owner block");
     return mesh;
 }
 
