@@ -12,6 +12,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -109,8 +110,8 @@ forEachLeafOf(const CoordBBox& box, const Visit& visit)
 
 /// Relabels N_k of every element of one kind in @a fine (active voxels: the labels written),
 /// over what earlier passes wrote there.
-/// @details The leaves the neighbourhoods touch are allocated first, in one thread; then
-/// every leaf takes the parts of its neighbourhoods in parallel, each leaf written by one
+/// @details The leaves the neighbourhoods touch are made first (in parallel) and added to
+/// the tree (in one thread); then every leaf takes the parts of its neighbourhoods in parallel, each leaf written by one
 /// thread: no tree per thread to merge, and the result does not depend on the split.
 template<typename Element>
 void
@@ -129,13 +130,33 @@ relabelPass(openvdb::Int32Tree& fine, const std::vector<Element>& elements, int 
 
     std::vector<LeafT*> leaves;
     std::vector<std::size_t> firstTouch; // of each leaf in touches, and the end
-    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
     for (std::size_t t = 0; t < touches.size(); ++t) {
         if (t > 0 && touches[t].first == touches[t - 1].first) continue;
-        leaves.push_back(acc.touchLeaf(touches[t].first));
+        leaves.push_back(fine.probeLeaf(touches[t].first));
         firstTouch.push_back(t);
     }
     firstTouch.push_back(touches.size());
+    // Leaves not there yet are made in parallel (each fills 2 KiB of values, the first touch
+    // of most of the tree's memory) and added in one thread (the tree's nodes are not
+    // thread-safe).
+    std::vector<std::unique_ptr<LeafT>> made(leaves.size());
+    auto make = [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t l = range.begin(); l < range.end(); ++l) {
+            if (!leaves[l]) {
+                made[l] = std::make_unique<LeafT>(touches[firstTouch[l]].first,
+                                                  fine.background());
+            }
+        }
+    };
+    const tbb::blocked_range<std::size_t> allLeaves(0, leaves.size(), 64);
+    if (options.threaded) tbb::parallel_for(allLeaves, make);
+    else make(allLeaves);
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
+    for (std::size_t l = 0; l < leaves.size(); ++l) {
+        if (!made[l]) continue;
+        leaves[l] = made[l].get();
+        acc.addLeaf(made[l].release()); // the tree owns it now
+    }
 
     InterruptFlag interrupt(options.interrupter);
     auto relabel = [&](const tbb::blocked_range<std::size_t>& range) {
@@ -149,9 +170,8 @@ relabelPass(openvdb::Int32Tree& fine, const std::vector<Element>& elements, int 
             }
         }
     };
-    const tbb::blocked_range<std::size_t> all(0, leaves.size(), 64);
-    if (options.threaded) tbb::parallel_for(all, relabel);
-    else relabel(all);
+    if (options.threaded) tbb::parallel_for(allLeaves, relabel);
+    else relabel(allLeaves);
     interrupt.throwIfStopped(stage);
 }
 
