@@ -76,7 +76,10 @@ forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& bo
 /// @details No vertex moves farther than a margin from where it was when the grid was built,
 /// so every box is widened by that margin: two triangles that can ever meet share a cell.
 /// Both ways are stored (the triangles of every cell, the cells of every triangle), so a
-/// round looks up no cell.
+/// round looks up no cell. A pair sharing several cells is taken in the lowest one: there,
+/// along every axis, one of the two boxes starts. Every entry keeps the axes along which its
+/// triangle's box starts in its cell, so that test reads nothing of the other triangle but
+/// the entry next to its index.
 class CandidateGrid
 {
 public:
@@ -84,8 +87,7 @@ public:
         : mInverse(1.0 / cellSize)
     {
         const std::size_t count = mesh.triangles.size();
-        mLow.resize(count);
-        mHigh.resize(count);
+        std::vector<openvdb::Vec3i> low(count), high(count);
         mTriangleCellStart.assign(count + 1, 0);
         forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t f = begin; f < end; ++f) {
@@ -95,37 +97,47 @@ public:
                     lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
                     hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
                 }
-                mLow[f] = cell(lo - Vec3d(margin));
-                mHigh[f] = cell(hi + Vec3d(margin));
-                const openvdb::Vec3i size = mHigh[f] - mLow[f] + openvdb::Vec3i(1);
+                low[f] = cell(lo - Vec3d(margin));
+                high[f] = cell(hi + Vec3d(margin));
+                const openvdb::Vec3i size = high[f] - low[f] + openvdb::Vec3i(1);
                 mTriangleCellStart[f + 1] = std::uint64_t(size[0]) * size[1] * size[2];
             }
         });
         for (std::size_t f = 0; f < count; ++f) mTriangleCellStart[f + 1] += mTriangleCellStart[f];
 
-        // (cell key, triangle) of every cell a triangle's box overlaps, sorted: the pairs are
+        // Every cell a triangle's box overlaps, sorted by (cell key, triangle): these are
         // unique, so the order does not depend on the sort.
-        std::vector<std::pair<std::uint64_t, std::uint32_t>> entries(mTriangleCellStart[count]);
+        std::vector<Entry> entries(mTriangleCellStart[count]);
         forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t f = begin; f < end; ++f) {
                 std::uint64_t j = mTriangleCellStart[f];
-                forEachCell(f, [&](std::uint64_t key) { entries[j++] = {key, std::uint32_t(f)}; });
+                for (int x = low[f][0]; x <= high[f][0]; ++x) {
+                    for (int y = low[f][1]; y <= high[f][1]; ++y) {
+                        for (int z = low[f][2]; z <= high[f][2]; ++z) {
+                            const int starts = (x == low[f][0]) | (y == low[f][1]) << 1
+                                | (z == low[f][2]) << 2;
+                            entries[j++] = {key(openvdb::Vec3i(x, y, z)), std::uint32_t(f),
+                                            std::uint8_t(starts)};
+                        }
+                    }
+                }
             }
         });
         if (threaded) tbb::parallel_sort(entries.begin(), entries.end());
         else std::sort(entries.begin(), entries.end());
 
         mCellTriangles.resize(entries.size());
+        mCellStarts.resize(entries.size());
         mTriangleCells.resize(entries.size());
+        mTriangleStarts.resize(entries.size());
         std::vector<std::uint64_t> fill(mTriangleCellStart.begin(), mTriangleCellStart.end() - 1);
         for (std::size_t j = 0; j < entries.size(); ++j) {
-            if (j == 0 || entries[j].first != entries[j - 1].first) {
-                mCellKeys.push_back(entries[j].first);
-                mCellStart.push_back(j);
-            }
-            const std::uint32_t f = entries[j].second;
+            if (j == 0 || entries[j].key != entries[j - 1].key) mCellStart.push_back(j);
+            const std::uint32_t f = entries[j].triangle;
             mCellTriangles[j] = f;
-            mTriangleCells[fill[f]++] = std::uint32_t(mCellKeys.size() - 1);
+            mCellStarts[j] = entries[j].starts;
+            mTriangleCells[fill[f]] = std::uint32_t(mCellStart.size() - 1);
+            mTriangleStarts[fill[f]++] = entries[j].starts;
         }
         mCellStart.push_back(entries.size());
     }
@@ -136,13 +148,10 @@ public:
     {
         for (auto k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
             const std::uint32_t cellIndex = mTriangleCells[k];
+            const std::uint8_t starts = mTriangleStarts[k];
             for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
                 const std::uint32_t g = mCellTriangles[j];
-                if (g == f) continue;
-                // A pair sharing several cells is taken in the lowest one.
-                openvdb::Vec3i lo;
-                for (int i = 0; i < 3; ++i) lo[i] = std::max(mLow[f][i], mLow[g][i]);
-                if (key(lo) == mCellKeys[cellIndex]) body(g);
+                if (g != f && (starts | mCellStarts[j]) == ALL_AXES) body(g);
             }
         }
     }
@@ -177,6 +186,19 @@ public:
 private:
     /// Triangles per parallel task: the output is the same for any number of threads.
     static constexpr std::size_t CHUNK = 4096;
+    /// Bits 0, 1, 2: the box starts in the cell along x, y, z.
+    static constexpr std::uint8_t ALL_AXES = 7;
+
+    struct Entry
+    {
+        std::uint64_t key;
+        std::uint32_t triangle;
+        std::uint8_t starts;
+        bool operator<(const Entry& other) const
+        {
+            return key < other.key || (key == other.key && triangle < other.triangle);
+        }
+    };
 
     openvdb::Vec3i cell(const Vec3d& p) const
     {
@@ -189,27 +211,18 @@ private:
         return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
             | (std::uint64_t(c[2]) & mask);
     }
-    template<typename Body>
-    void forEachCell(std::size_t f, const Body& body) const
-    {
-        for (int x = mLow[f][0]; x <= mHigh[f][0]; ++x) {
-            for (int y = mLow[f][1]; y <= mHigh[f][1]; ++y) {
-                for (int z = mLow[f][2]; z <= mHigh[f][2]; ++z) {
-                    body(key(openvdb::Vec3i(x, y, z)));
-                }
-            }
-        }
-    }
 
     double mInverse;
-    std::vector<openvdb::Vec3i> mLow, mHigh;
     /// The cells, ascending by key: the triangles in cell c are mCellTriangles[mCellStart[c]
-    /// .. mCellStart[c + 1]), ascending.
-    std::vector<std::uint64_t> mCellKeys, mCellStart;
+    /// .. mCellStart[c + 1]), ascending, their boxes starting there along mCellStarts.
+    std::vector<std::uint64_t> mCellStart;
     std::vector<std::uint32_t> mCellTriangles;
-    /// The cells of triangle f: mTriangleCells[mTriangleCellStart[f] .. [f + 1]), ascending.
+    std::vector<std::uint8_t> mCellStarts;
+    /// The cells of triangle f: mTriangleCells[mTriangleCellStart[f] .. [f + 1]), ascending,
+    /// its box starting in them along mTriangleStarts.
     std::vector<std::uint64_t> mTriangleCellStart;
     std::vector<std::uint32_t> mTriangleCells;
+    std::vector<std::uint8_t> mTriangleStarts;
 };
 
 /// @brief The state of separatePatches(): the triangles around every point, the candidate
