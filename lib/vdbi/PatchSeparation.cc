@@ -82,11 +82,15 @@ using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 /// the two boxes starts. Every entry keeps the axes along which its triangle's box starts in
 /// its cell, so that test reads nothing but the entries being walked. The first round walks
 /// the cells, later ones look up the cells of a few triangles.
+/// A cell is as wide as the widened box of a triangle with edges of @a cellSize, so that such
+/// a box overlaps about 8 cells: narrower cells make more entries to sort than they save pair
+/// tests.
 class CandidateGrid
 {
 public:
     CandidateGrid(const InterfaceMesh& mesh, double cellSize, double margin, bool threaded)
-        : mInverse(1.0 / cellSize), mLow(mesh.triangles.size()), mHigh(mesh.triangles.size())
+        : mInverse(1.0 / (cellSize + 2.0 * margin))
+        , mLow(mesh.triangles.size()), mHigh(mesh.triangles.size())
     {
         const std::size_t count = mesh.triangles.size();
         // The entries of triangle f: [first[f], first[f + 1]).
