@@ -196,3 +196,45 @@ TEST_F(TestPatchSeparation, testPatchesSharingNoLabelSeparate)
     EXPECT_TRUE(intersectingPairs(mesh).empty());
     expectAllowedMoves(before, mesh, movable, settings.maxMove);
 }
+
+// Crossing pairs at sites straddling grid cells, on both sides of 0, some of one patch and
+// some of two: with nothing movable, one round returns the pairs found, and the grid (pairs
+// taken in the lowest cell their boxes share) must find each exactly once, for any cell size.
+TEST_F(TestPatchSeparation, testEveryMeetingPairFoundOnce)
+{
+    std::vector<Vec3d> points;
+    PatchSpec between = {0, 1, {}}, other = {1, 2, {}}, within = {2, 3, {}};
+    std::size_t sites = 0;
+    for (const double x : {-3.4, -0.15, 2.9}) {
+        for (const double y : {-2.95, 0.3, 3.55}) {
+            for (const double z : {-3.1, 0.05, 3.2}) {
+                const std::uint32_t n = std::uint32_t(points.size());
+                // A horizontal triangle, and a vertical one through its inside.
+                for (const Vec3d& p : {Vec3d(-0.5, -0.5, 0), Vec3d(0.7, -0.5, 0), Vec3d(0, 0.7, 0),
+                                       Vec3d(0.1, -0.2, -0.5), Vec3d(0.1, 0.3, -0.5),
+                                       Vec3d(0.1, 0, 0.5)}) {
+                    points.push_back(Vec3d(x, y, z) + p);
+                }
+                const Vec3I first(n, n + 1, n + 2), second(n + 3, n + 4, n + 5);
+                if (sites++ % 2 == 0) {
+                    within.triangles.push_back(first);
+                    within.triangles.push_back(second);
+                } else {
+                    between.triangles.push_back(first);
+                    other.triangles.push_back(second);
+                }
+            }
+        }
+    }
+    const vdbi::InterfaceMesh mesh = makeMesh(points, {between, other, within});
+    ASSERT_EQ(intersectingPairs(mesh).size(), sites);
+
+    const std::vector<std::uint8_t> movable(points.size(), 0);
+    for (const double cellSize : {0.1, 0.5, 1.0, 3.0}) {
+        vdbi::SeparationSettings settings = unitSettings();
+        settings.cellSize = cellSize;
+        settings.rounds = 1;
+        vdbi::InterfaceMesh copy = mesh;
+        EXPECT_EQ(vdbi::separatePatches(copy, movable, settings), sites) << "cell " << cellSize;
+    }
+}

@@ -72,21 +72,29 @@ forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& bo
     else run(all);
 }
 
+/// Pairs of triangle indices.
+using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+
 /// @brief Triangles bucketed by the grid cells their bounding boxes overlap, built once.
 /// @details No vertex moves farther than a margin from where it was when the grid was built,
 /// so every box is widened by that margin: two triangles that can ever meet share a cell.
-/// Both ways are stored (the triangles of every cell, the cells of every triangle), so a
-/// round looks up no cell.
+/// A pair sharing several cells is taken in the lowest one: there, along every axis, one of
+/// the two boxes starts. Every entry keeps the axes along which its triangle's box starts in
+/// its cell, so that test reads nothing but the entries being walked. The first round walks
+/// the cells, later ones look up the cells of a few triangles.
+/// A cell is as wide as the widened box of a triangle with edges of @a cellSize, so that such
+/// a box overlaps about 8 cells: narrower cells make more entries to sort than they save pair
+/// tests.
 class CandidateGrid
 {
 public:
     CandidateGrid(const InterfaceMesh& mesh, double cellSize, double margin, bool threaded)
-        : mInverse(1.0 / cellSize)
+        : mInverse(1.0 / (cellSize + 2.0 * margin))
+        , mLow(mesh.triangles.size()), mHigh(mesh.triangles.size())
     {
         const std::size_t count = mesh.triangles.size();
-        mLow.resize(count);
-        mHigh.resize(count);
-        mTriangleCellStart.assign(count + 1, 0);
+        // The entries of triangle f: [first[f], first[f + 1]).
+        std::vector<std::uint64_t> first(count + 1, 0);
         forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t f = begin; f < end; ++f) {
                 const openvdb::Vec3I& t = mesh.triangles[f];
@@ -98,64 +106,89 @@ public:
                 mLow[f] = cell(lo - Vec3d(margin));
                 mHigh[f] = cell(hi + Vec3d(margin));
                 const openvdb::Vec3i size = mHigh[f] - mLow[f] + openvdb::Vec3i(1);
-                mTriangleCellStart[f + 1] = std::uint64_t(size[0]) * size[1] * size[2];
+                first[f + 1] = std::uint64_t(size[0]) * size[1] * size[2];
             }
         });
-        for (std::size_t f = 0; f < count; ++f) mTriangleCellStart[f + 1] += mTriangleCellStart[f];
+        for (std::size_t f = 0; f < count; ++f) first[f + 1] += first[f];
 
-        // (cell key, triangle) of every cell a triangle's box overlaps, sorted: the pairs are
-        // unique, so the order does not depend on the sort.
-        std::vector<std::pair<std::uint64_t, std::uint32_t>> entries(mTriangleCellStart[count]);
+        // Every cell a triangle's box overlaps, sorted by (cell key, triangle): these are
+        // unique, so the order does not depend on the sort. Left unset until the threads
+        // fill it, as hundreds of MB are zeroed by one thread otherwise.
+        std::vector<Entry, DefaultInitAllocator<Entry>> entries(first[count]);
         forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t f = begin; f < end; ++f) {
-                std::uint64_t j = mTriangleCellStart[f];
-                forEachCell(f, [&](std::uint64_t key) { entries[j++] = {key, std::uint32_t(f)}; });
+                std::uint64_t j = first[f];
+                forEachCell(std::uint32_t(f), [&](const openvdb::Vec3i& c, std::uint8_t starts) {
+                    entries[j++] = {key(c), std::uint32_t(f), starts};
+                });
             }
         });
         if (threaded) tbb::parallel_sort(entries.begin(), entries.end());
         else std::sort(entries.begin(), entries.end());
 
-        mCellTriangles.resize(entries.size());
-        mTriangleCells.resize(entries.size());
-        std::vector<std::uint64_t> fill(mTriangleCellStart.begin(), mTriangleCellStart.end() - 1);
         for (std::size_t j = 0; j < entries.size(); ++j) {
-            if (j == 0 || entries[j].first != entries[j - 1].first) {
-                mCellKeys.push_back(entries[j].first);
-                mCellStart.push_back(j);
-            }
-            const std::uint32_t f = entries[j].second;
-            mCellTriangles[j] = f;
-            mTriangleCells[fill[f]++] = std::uint32_t(mCellKeys.size() - 1);
+            if (j > 0 && entries[j].key == entries[j - 1].key) continue;
+            mCellKeys.push_back(entries[j].key);
+            mCellStart.push_back(j);
         }
         mCellStart.push_back(entries.size());
+        mCellTriangles.resize(entries.size());
+        mCellStarts.resize(entries.size());
+        forEachChunk(entries.size(), CHUNK, threaded,
+                     [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t j = begin; j < end; ++j) {
+                mCellTriangles[j] = entries[j].triangle;
+                mCellStarts[j] = entries[j].starts;
+            }
+        });
     }
 
     /// @brief Calls @a body(g) once for every triangle g != @a f sharing a cell with @a f.
     template<typename Body>
     void forEachNeighbour(std::uint32_t f, const Body& body) const
     {
-        for (auto k = mTriangleCellStart[f]; k < mTriangleCellStart[f + 1]; ++k) {
-            const std::uint32_t cellIndex = mTriangleCells[k];
+        forEachCell(f, [&](const openvdb::Vec3i& c, std::uint8_t starts) {
+            const std::size_t cellIndex =
+                std::lower_bound(mCellKeys.begin(), mCellKeys.end(), key(c)) - mCellKeys.begin();
             for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
                 const std::uint32_t g = mCellTriangles[j];
-                if (g == f) continue;
-                // A pair sharing several cells is taken in the lowest one.
-                openvdb::Vec3i lo;
-                for (int i = 0; i < 3; ++i) lo[i] = std::max(mLow[f][i], mLow[g][i]);
-                if (key(lo) == mCellKeys[cellIndex]) body(g);
+                if (g != f && (starts | mCellStarts[j]) == ALL_AXES) body(g);
             }
-        }
+        });
+    }
+
+    /// @brief Every pair (first < second) of meeting triangles, of one patch or of two,
+    /// sharing a cell, once each, in the order of the cells.
+    Pairs allMeetingPairs(const InterfaceMesh& mesh, bool threaded) const
+    {
+        const std::size_t cellCount = mCellKeys.size();
+        std::vector<Pairs> perChunk((cellCount + CELL_CHUNK - 1) / CELL_CHUNK);
+        auto search = [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+            for (std::size_t c = begin; c < end; ++c) {
+                for (auto i = mCellStart[c]; i < mCellStart[c + 1]; ++i) {
+                    const std::uint32_t f = mCellTriangles[i];
+                    for (auto j = i + 1; j < mCellStart[c + 1]; ++j) {
+                        const std::uint32_t g = mCellTriangles[j];
+                        if ((mCellStarts[i] | mCellStarts[j]) == ALL_AXES
+                            && trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
+                            perChunk[chunk].emplace_back(f, g);
+                        }
+                    }
+                }
+            }
+        };
+        forEachChunk(cellCount, CELL_CHUNK, threaded, search);
+        return concatenate(perChunk);
     }
 
     /// @brief Every pair (first < second) of meeting triangles, of one patch or of two,
     /// sharing a cell with at least one of them active, once each, in the order of the
     /// active triangle they were found from.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>>
-    meetingPairs(const InterfaceMesh& mesh, const std::vector<char>& active, bool threaded) const
+    Pairs meetingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
+                       bool threaded) const
     {
         const std::size_t count = active.size();
-        std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> perChunk(
-            (count + CHUNK - 1) / CHUNK);
+        std::vector<Pairs> perChunk((count + CHUNK - 1) / CHUNK);
         auto search = [&](std::size_t c, std::size_t begin, std::size_t end) {
             for (std::uint32_t f = std::uint32_t(begin); f < end; ++f) {
                 if (!active[f]) continue;
@@ -169,14 +202,33 @@ public:
             }
         };
         forEachChunk(count, CHUNK, threaded, search);
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-        for (const auto& chunk : perChunk) pairs.insert(pairs.end(), chunk.begin(), chunk.end());
-        return pairs;
+        return concatenate(perChunk);
     }
 
 private:
-    /// Triangles per parallel task: the output is the same for any number of threads.
-    static constexpr std::size_t CHUNK = 4096;
+    /// Triangles (entries) per parallel task, and cells: the output is the same for any
+    /// number of threads.
+    static constexpr std::size_t CHUNK = 4096, CELL_CHUNK = 1024;
+    /// Bits 0, 1, 2: the box starts in the cell along x, y, z.
+    static constexpr std::uint8_t ALL_AXES = 7;
+
+    struct Entry
+    {
+        std::uint64_t key;
+        std::uint32_t triangle;
+        std::uint8_t starts;
+        bool operator<(const Entry& other) const
+        {
+            return key < other.key || (key == other.key && triangle < other.triangle);
+        }
+    };
+
+    static Pairs concatenate(const std::vector<Pairs>& parts)
+    {
+        Pairs all;
+        for (const Pairs& part : parts) all.insert(all.end(), part.begin(), part.end());
+        return all;
+    }
 
     openvdb::Vec3i cell(const Vec3d& p) const
     {
@@ -189,27 +241,30 @@ private:
         return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
             | (std::uint64_t(c[2]) & mask);
     }
+    /// Calls @a body(c, starts) for every cell c of the box of triangle @a f, with the axes
+    /// along which the box starts there.
     template<typename Body>
-    void forEachCell(std::size_t f, const Body& body) const
+    void forEachCell(std::uint32_t f, const Body& body) const
     {
-        for (int x = mLow[f][0]; x <= mHigh[f][0]; ++x) {
-            for (int y = mLow[f][1]; y <= mHigh[f][1]; ++y) {
-                for (int z = mLow[f][2]; z <= mHigh[f][2]; ++z) {
-                    body(key(openvdb::Vec3i(x, y, z)));
+        const openvdb::Vec3i &lo = mLow[f], &hi = mHigh[f];
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+            for (int y = lo[1]; y <= hi[1]; ++y) {
+                for (int z = lo[2]; z <= hi[2]; ++z) {
+                    body(openvdb::Vec3i(x, y, z),
+                         std::uint8_t((x == lo[0]) | (y == lo[1]) << 1 | (z == lo[2]) << 2));
                 }
             }
         }
     }
 
     double mInverse;
+    /// The cells of the box of every triangle.
     std::vector<openvdb::Vec3i> mLow, mHigh;
     /// The cells, ascending by key: the triangles in cell c are mCellTriangles[mCellStart[c]
-    /// .. mCellStart[c + 1]), ascending.
+    /// .. mCellStart[c + 1]), ascending, their boxes starting there along mCellStarts.
     std::vector<std::uint64_t> mCellKeys, mCellStart;
-    std::vector<std::uint32_t> mCellTriangles;
-    /// The cells of triangle f: mTriangleCells[mTriangleCellStart[f] .. [f + 1]), ascending.
-    std::vector<std::uint64_t> mTriangleCellStart;
-    std::vector<std::uint32_t> mTriangleCells;
+    std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>> mCellTriangles;
+    std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>> mCellStarts;
 };
 
 /// @brief The state of separatePatches(): the triangles around every point, the candidate
@@ -244,12 +299,13 @@ public:
     std::size_t run()
     {
         const std::size_t pointCount = mMesh.points.size();
-        std::vector<char> active(mMesh.triangles.size(), 1), listed(pointCount, 0);
+        std::vector<char> active(mMesh.triangles.size(), 0), listed(pointCount, 0);
         std::vector<int> push(pointCount, 0);
         std::vector<std::uint32_t> corners;
         std::size_t crossing = 0;
         for (int round = 0; round < mSettings.rounds; ++round) {
-            const auto pairs = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
+            const Pairs pairs = round == 0 ? mGrid.allMeetingPairs(mMesh, mSettings.threaded)
+                                           : mGrid.meetingPairs(mMesh, active, mSettings.threaded);
             crossing = pairs.size();
             if (crossing == 0) break;
             corners.clear();

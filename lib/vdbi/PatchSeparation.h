@@ -19,7 +19,8 @@ namespace vdbi {
 /// Settings of separatePatches().
 struct SeparationSettings
 {
-    /// Grid cell side for the candidate pairs: about the edge length.
+    /// About the edge length: the grid of candidate pairs has cells this wide plus twice
+    /// maxMove.
     double cellSize = 1.0;
     /// Distance a vertex moves per round, and the most it may move over all rounds.
     double step = 0.1, maxMove = 0.3;
