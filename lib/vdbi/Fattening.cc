@@ -111,8 +111,9 @@ forEachLeafOf(const CoordBBox& box, const Visit& visit)
 /// Relabels N_k of every element of one kind in @a fine (active voxels: the labels written),
 /// over what earlier passes wrote there.
 /// @details The leaves the neighbourhoods touch are made first (in parallel) and added to
-/// the tree (in one thread); then every leaf takes the parts of its neighbourhoods in parallel, each leaf written by one
-/// thread: no tree per thread to merge, and the result does not depend on the split.
+/// the tree (in one thread); then every leaf takes the parts of its neighbourhoods in
+/// parallel, each leaf written by one thread: no tree per thread to merge, and the result
+/// does not depend on the split.
 template<typename Element>
 void
 relabelPass(openvdb::Int32Tree& fine, const std::vector<Element>& elements, int s, int k,
