@@ -152,7 +152,7 @@ public:
                 std::lower_bound(mCellKeys.begin(), mCellKeys.end(), key(c)) - mCellKeys.begin();
             for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
                 const std::uint32_t g = mCellTriangles[j];
-                if (g != f && (starts | mCellStarts[j]) == ALL_AXES) body(g);
+                if (g != f && isLowestSharedCell(starts, mCellStarts[j])) body(g);
             }
         });
     }
@@ -169,7 +169,7 @@ public:
                     const std::uint32_t f = mCellTriangles[i];
                     for (auto j = i + 1; j < mCellStart[c + 1]; ++j) {
                         const std::uint32_t g = mCellTriangles[j];
-                        if ((mCellStarts[i] | mCellStarts[j]) == ALL_AXES
+                        if (isLowestSharedCell(mCellStarts[i], mCellStarts[j])
                             && trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
                             perChunk[chunk].emplace_back(f, g);
                         }
@@ -209,8 +209,15 @@ private:
     /// Triangles (entries) per parallel task, and cells: the output is the same for any
     /// number of threads.
     static constexpr std::size_t CHUNK = 4096, CELL_CHUNK = 1024;
-    /// Bits 0, 1, 2: the box starts in the cell along x, y, z.
+    /// Bits 0, 1, 2 of an entry's starts: its box starts in the cell along x, y, z.
     static constexpr std::uint8_t ALL_AXES = 7;
+
+    /// Whether a cell is the lowest that two boxes share, from the starts of their entries
+    /// there: along every axis one of them starts in it.
+    static bool isLowestSharedCell(std::uint8_t starts, std::uint8_t otherStarts)
+    {
+        return (starts | otherStarts) == ALL_AXES;
+    }
 
     struct Entry
     {
