@@ -5,7 +5,6 @@
 #include <vdbi/Interruption.h>
 
 #include <openvdb/tools/Prune.h>
-#include <openvdb/tree/LeafManager.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -94,86 +93,163 @@ writeByPriority(LeafT& leaf, LeafT::NodeMaskType& written, const CoordBBox& box,
     }
 }
 
-/// Calls @a visit(origin) for the origin of every leaf that @a box overlaps.
-template<typename Visit>
-void
-forEachLeafOf(const CoordBBox& box, const Visit& visit)
+/// A neighbourhood to relabel (N_k of an element) and the element's label.
+struct Claim
 {
-    constexpr int MASK = int(LeafT::DIM) - 1;
-    const Coord lo(box.min().x() & ~MASK, box.min().y() & ~MASK, box.min().z() & ~MASK);
-    for (int x = lo.x(); x <= box.max().x(); x += int(LeafT::DIM)) {
-        for (int y = lo.y(); y <= box.max().y(); y += int(LeafT::DIM)) {
-            for (int z = lo.z(); z <= box.max().z(); z += int(LeafT::DIM)) visit(Coord(x, y, z));
+    CoordBBox box;
+    Label label;
+};
+
+/// The claims of the passes, in order: a later pass overwrites what an earlier one wrote.
+struct Passes
+{
+    std::vector<Claim> claims;         ///< pass by pass
+    std::vector<std::uint32_t> ends;   ///< the end of each pass in claims
+
+    template<typename Element>
+    void add(const std::vector<Element>& elements, int s, int k)
+    {
+        for (const Element& e : elements) {
+            claims.push_back(Claim{neighbourhood(extentOf(e), s, k), e.label});
         }
+        ends.push_back(std::uint32_t(claims.size()));
+    }
+};
+
+/// Keeps active only the voxels of @a leaf whose label differs from their coarse voxel's
+/// (read through @a coarse).
+template<typename CoarseAccessor>
+void
+dropUnchanged(LeafT& leaf, CoarseAccessor& coarse, int s)
+{
+    constexpr int DIM = int(LeafT::DIM);
+    // The coarse voxels under the leaf (at most 8 per axis), read once: per fine voxel a
+    // table lookup instead of a tree lookup.
+    const Coord first = coarseOf(leaf.origin(), s);
+    int cell[3][DIM], span[3];
+    for (int a = 0; a < 3; ++a) {
+        for (int t = 0; t < DIM; ++t) cell[a][t] = floorDiv(leaf.origin()[a] + t, s) - first[a];
+        span[a] = cell[a][DIM - 1] + 1;
+    }
+    Label under[DIM * DIM * DIM];
+    for (int x = 0; x < span[0]; ++x) {
+        for (int y = 0; y < span[1]; ++y) {
+            for (int z = 0; z < span[2]; ++z) {
+                under[(x * span[1] + y) * span[2] + z] = coarse.getValue(first.offsetBy(x, y, z));
+            }
+        }
+    }
+    const Label* values = leaf.buffer().data();
+    // The value mask one x slice at a time, a 64-bit word with bit 8y + z for voxel (x, y, z):
+    // its active voxels by bit scans, cleared in one store (a mask iterator cost a call per
+    // active voxel).
+    for (int x = 0; x < DIM; ++x) {
+        std::uint64_t& slice = leaf.getValueMask().template getWord<std::uint64_t>(x);
+        std::uint64_t changed = slice;
+        for (std::uint64_t bits = slice; bits != 0; bits &= bits - 1) {
+            const int yz = int(openvdb::util::FindLowestOn(bits));
+            const Label c = under[(cell[0][x] * span[1] + cell[1][yz >> 3]) * span[2]
+                                  + cell[2][yz & (DIM - 1)]];
+            if (values[x * DIM * DIM + yz] == c) changed &= ~(std::uint64_t(1) << yz);
+        }
+        slice = changed;
     }
 }
 
-/// Relabels N_k of every element of one kind in @a fine (active voxels: the labels written),
-/// over what earlier passes wrote there.
-/// @details The leaves the neighbourhoods touch are made first (in parallel) and added to
-/// the tree (in one thread); then every leaf takes the parts of its neighbourhoods in
-/// parallel, each leaf written by one thread: no tree per thread to merge, and the result
-/// does not depend on the split.
-template<typename Element>
+/// @brief Runs the passes into @a fine (active voxels: the labels that differ from the
+/// coarse ones in @a coarse), one leaf at a time.
+/// @details The leaves the claims touch are listed, sorted, found or made in parallel and
+/// added to the tree in one thread (its nodes are not thread-safe). Then each leaf, in
+/// parallel, takes all passes' claims on it in pass order and drops what equals the coarse
+/// label, while its values are in cache: every leaf is written by one thread, so no tree per
+/// thread to merge, and the result does not depend on the split.
 void
-relabelPass(openvdb::Int32Tree& fine, const std::vector<Element>& elements, int s, int k,
-            const RepairOptions& options, const char* stage)
+runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Passes& passes,
+          int s, const RepairOptions& options)
 {
-    // (leaf origin, element) for every leaf a neighbourhood overlaps, by leaf.
-    std::vector<std::pair<Coord, std::uint32_t>> touches;
-    for (std::size_t n = 0; n < elements.size(); ++n) {
-        forEachLeafOf(neighbourhood(extentOf(elements[n]), s, k), [&](const Coord& origin) {
-            touches.emplace_back(origin, std::uint32_t(n));
-        });
-    }
-    if (options.threaded) tbb::parallel_sort(touches.begin(), touches.end());
-    else std::sort(touches.begin(), touches.end());
-
-    std::vector<LeafT*> leaves;
-    std::vector<std::size_t> firstTouch; // of each leaf in touches, and the end
-    for (std::size_t t = 0; t < touches.size(); ++t) {
-        if (t > 0 && touches[t].first == touches[t - 1].first) continue;
-        leaves.push_back(fine.probeLeaf(touches[t].first));
-        firstTouch.push_back(t);
-    }
-    firstTouch.push_back(touches.size());
-    // Leaves not there yet are made in parallel (each fills 2 KiB of values, the first touch
-    // of most of the tree's memory) and added in one thread (the tree's nodes are not
-    // thread-safe).
-    std::vector<std::unique_ptr<LeafT>> made(leaves.size());
-    auto make = [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t l = range.begin(); l < range.end(); ++l) {
-            if (!leaves[l]) {
-                made[l] = std::make_unique<LeafT>(touches[firstTouch[l]].first,
-                                                  fine.background());
+    constexpr int DIM = int(LeafT::DIM);
+    auto forEach = [&options](std::size_t count, std::size_t grain, const auto& body) {
+        const tbb::blocked_range<std::size_t> all(0, count, grain);
+        if (options.threaded) tbb::parallel_for(all, body);
+        else body(all);
+    };
+    // (leaf origin, claim) for every leaf a claim overlaps, by leaf then claim: per claim,
+    // its leaves are counted, then written at their offsets.
+    const std::vector<Claim>& claims = passes.claims;
+    auto leafOf = [](const Coord& c) { return Coord(c.x() & ~(DIM - 1), c.y() & ~(DIM - 1),
+                                                    c.z() & ~(DIM - 1)); };
+    std::vector<std::size_t> firstOf(claims.size() + 1, 0);
+    forEach(claims.size(), 256, [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            const Coord lo = leafOf(claims[n].box.min()), hi = leafOf(claims[n].box.max());
+            firstOf[n + 1] = std::size_t((hi.x() - lo.x()) / DIM + 1)
+                * std::size_t((hi.y() - lo.y()) / DIM + 1)
+                * std::size_t((hi.z() - lo.z()) / DIM + 1);
+        }
+    });
+    for (std::size_t n = 0; n < claims.size(); ++n) firstOf[n + 1] += firstOf[n];
+    std::vector<std::pair<Coord, std::uint32_t>> touches(firstOf.back());
+    forEach(claims.size(), 256, [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            const CoordBBox& box = claims[n].box;
+            const Coord lo = leafOf(box.min());
+            std::size_t t = firstOf[n];
+            for (int x = lo.x(); x <= box.max().x(); x += DIM) {
+                for (int y = lo.y(); y <= box.max().y(); y += DIM) {
+                    for (int z = lo.z(); z <= box.max().z(); z += DIM) {
+                        touches[t++] = {Coord(x, y, z), std::uint32_t(n)};
+                    }
+                }
             }
         }
-    };
-    const tbb::blocked_range<std::size_t> allLeaves(0, leaves.size(), 64);
-    if (options.threaded) tbb::parallel_for(allLeaves, make);
-    else make(allLeaves);
-    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
-    for (std::size_t l = 0; l < leaves.size(); ++l) {
-        if (!made[l]) continue;
-        leaves[l] = made[l].get();
-        acc.addLeaf(made[l].release()); // the tree owns it now
+    });
+    if (options.threaded) tbb::parallel_sort(touches.begin(), touches.end());
+    else std::sort(touches.begin(), touches.end());
+    std::vector<std::size_t> firstTouch; // of each leaf in touches, and the end
+    for (std::size_t t = 0; t < touches.size(); ++t) {
+        if (t == 0 || touches[t].first != touches[t - 1].first) firstTouch.push_back(t);
+    }
+    firstTouch.push_back(touches.size());
+    const std::size_t leafCount = firstTouch.size() - 1;
+
+    // Every leaf is new (the tree starts empty): made in parallel, as making one is the
+    // first touch of its memory, then added in one thread.
+    std::vector<std::unique_ptr<LeafT>> made(leafCount);
+    forEach(leafCount, 64, [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t l = range.begin(); l < range.end(); ++l) {
+            made[l] = std::make_unique<LeafT>(touches[firstTouch[l]].first, fine.background());
+        }
+    });
+    std::vector<LeafT*> leaves(leafCount);
+    {
+        openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
+        for (std::size_t l = 0; l < leafCount; ++l) {
+            leaves[l] = made[l].get();
+            acc.addLeaf(made[l].release()); // the tree owns it now
+        }
     }
 
     InterruptFlag interrupt(options.interrupter);
-    auto relabel = [&](const tbb::blocked_range<std::size_t>& range) {
+    forEach(leafCount, 64, [&](const tbb::blocked_range<std::size_t>& range) {
         if (interrupt.poll()) return;
+        openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> coarseAcc(coarse);
         for (std::size_t l = range.begin(); l < range.end(); ++l) {
-            LeafT::NodeMaskType written; // by this pass
+            LeafT::NodeMaskType written; // by the current pass
+            std::size_t pass = 0;
             for (std::size_t t = firstTouch[l]; t < firstTouch[l + 1]; ++t) {
-                const Element& e = elements[touches[t].second];
-                writeByPriority(*leaves[l], written, neighbourhood(extentOf(e), s, k), e.label,
+                const std::uint32_t n = touches[t].second;
+                if (n >= passes.ends[pass]) { // the next pass (some may be empty)
+                    while (n >= passes.ends[pass]) ++pass;
+                    written.setOff();
+                }
+                writeByPriority(*leaves[l], written, claims[n].box, claims[n].label,
                                 options.priority);
             }
+            dropUnchanged(*leaves[l], coarseAcc, s);
         }
-    };
-    if (options.threaded) tbb::parallel_for(allLeaves, relabel);
-    else relabel(allLeaves);
-    interrupt.throwIfStopped(stage);
+    });
+    interrupt.throwIfStopped("fattening");
+    openvdb::tools::pruneInactive(fine, options.threaded);
 }
 
 /// Marks the coarse voxels whose closed cubes touch an element: [lo - 1, hi] per axis.
@@ -187,51 +263,6 @@ markTouchedVoxels(const std::vector<Element>& elements, openvdb::MaskTree& mask)
         const CoordBBox box(x.lo.offsetBy(-1), x.hi);
         for (auto it = box.begin(); it; ++it) acc.setValueOn(*it);
     }
-}
-
-/// Keeps active only the fine voxels whose label differs from their coarse voxel's.
-void
-dropUnchanged(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, int s, bool threaded)
-{
-    constexpr int DIM = int(LeafT::DIM);
-    openvdb::tree::LeafManager<openvdb::Int32Tree> leaves(fine);
-    leaves.foreach([&](LeafT& leaf, std::size_t) {
-        // The coarse voxels under the leaf (at most 8 per axis), read once: per fine voxel a
-        // table lookup instead of a tree lookup.
-        const Coord first = coarseOf(leaf.origin(), s);
-        int cell[3][DIM], span[3];
-        for (int a = 0; a < 3; ++a) {
-            for (int t = 0; t < DIM; ++t) {
-                cell[a][t] = floorDiv(leaf.origin()[a] + t, s) - first[a];
-            }
-            span[a] = cell[a][DIM - 1] + 1;
-        }
-        openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> acc(coarse);
-        Label under[DIM * DIM * DIM];
-        for (int x = 0; x < span[0]; ++x) {
-            for (int y = 0; y < span[1]; ++y) {
-                for (int z = 0; z < span[2]; ++z) {
-                    under[(x * span[1] + y) * span[2] + z] = acc.getValue(first.offsetBy(x, y, z));
-                }
-            }
-        }
-        const Label* values = leaf.buffer().data();
-        // The value mask one x slice at a time, a 64-bit word with bit 8y + z for voxel
-        // (x, y, z): its active voxels by bit scans, cleared in one store (a mask iterator
-        // cost a call per active voxel).
-        for (int x = 0; x < DIM; ++x) {
-            std::uint64_t& slice = leaf.getValueMask().template getWord<std::uint64_t>(x);
-            std::uint64_t changed = slice;
-            for (std::uint64_t bits = slice; bits != 0; bits &= bits - 1) {
-                const int yz = int(openvdb::util::FindLowestOn(bits));
-                const Label c = under[(cell[0][x] * span[1] + cell[1][yz >> 3]) * span[2]
-                                      + cell[2][yz & (DIM - 1)]];
-                if (values[x * DIM * DIM + yz] == c) changed &= ~(std::uint64_t(1) << yz);
-            }
-            slice = changed;
-        }
-    }, threaded);
-    openvdb::tools::pruneInactive(fine, threaded);
 }
 
 } // namespace
@@ -255,15 +286,16 @@ fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
     result.subdivision = s;
 
     // Edges N1 then vertices N2; with constraints faces N1, edges N2, vertices N3.
-    auto fine = std::make_shared<openvdb::Int32Tree>(background);
+    Passes passes;
     if (constrained) {
-        relabelPass(*fine, elements.faces, s, 1, options, "fattening faces");
-        relabelPass(*fine, elements.edges, s, 2, options, "fattening edges");
+        passes.add(elements.faces, s, 1);
+        passes.add(elements.edges, s, 2);
     } else {
-        relabelPass(*fine, elements.edges, s, 1, options, "fattening edges");
+        passes.add(elements.edges, s, 1);
     }
-    relabelPass(*fine, elements.vertices, s, constrained ? 3 : 2, options, "fattening vertices");
-    dropUnchanged(*fine, grid->tree(), s, options.threaded);
+    passes.add(elements.vertices, s, constrained ? 3 : 2);
+    auto fine = std::make_shared<openvdb::Int32Tree>(background);
+    runPasses(*fine, grid->tree(), passes, s, options);
 
     result.fine = openvdb::Int32Grid::create(fine);
     result.fine->setName("fine_labels");
