@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <map>
 #include <memory>
 
 namespace vdbi {
@@ -72,12 +71,11 @@ handOverDirection(LocalKey k, int limit)
 
 /// Writes the triangles of @a block, corners @a corner (indices into its keys, whose global
 /// indices are @a global), to their places in @a mesh: those of its local patch l from
-/// start[l] on.
+/// start[l] on (start[l] is moved past them).
 template<typename Index>
 void
 scatterTriangles(const BlockMesh& block, const Index* corner,
-                 const std::uint32_t* global, std::vector<std::size_t> start,
-                 InterfaceMesh& mesh)
+                 const std::uint32_t* global, std::size_t* start, InterfaceMesh& mesh)
 {
     for (const PatchRun& run : block.runs) {
         openvdb::Vec3I* to = mesh.triangles.data() + start[run.patch];
@@ -209,38 +207,49 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         vertexOffset[n + 1] = vertexOffset[n] + blocks[n].ownedCount();
     }
 
-    // 3. Patches in (a, b) order; inside a patch, block order then emission order.
-    std::map<LabelPair, std::size_t> patchIndex;
+    // 3. Patches in (a, b) order; inside a patch, block order then emission order. Every
+    //    (block, local patch) gets the place of its first triangle, in a flat array: only
+    //    the pairs that occur are visited, so this is linear in the output.
+    std::vector<std::size_t> firstLocal(blockCount + 1, 0);
+    for (std::size_t n = 0; n < blockCount; ++n) {
+        firstLocal[n + 1] = firstLocal[n] + blocks[n].patches.size();
+    }
+    std::vector<LabelPair> pairs; // sorted; few, so a search beats a tree of nodes
     for (const BlockMesh& block : blocks) {
-        for (const LabelPair& p : block.patches) patchIndex.emplace(p, 0);
+        for (const LabelPair& p : block.patches) {
+            const auto it = std::lower_bound(pairs.begin(), pairs.end(), p);
+            if (it == pairs.end() || *it != p) pairs.insert(it, p);
+        }
     }
     mesh.keyScale = K;
-    for (auto& entry : patchIndex) {
-        entry.second = mesh.patches.size();
-        InterfacePatch patch;
-        patch.a = entry.first[0];
-        patch.b = entry.first[1];
-        mesh.patches.push_back(patch);
-    }
-    // start[n][l]: where block n's triangles of its local patch l go. Only the (block,
-    // patch) pairs that occur are visited, so this is linear in the output.
-    std::vector<std::vector<std::size_t>> start(blockCount);
-    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> users(mesh.patches.size());
+    mesh.patches.resize(pairs.size());
+    std::vector<std::uint32_t> patchOf(firstLocal.back());
+    std::vector<std::size_t> start(firstLocal.back());
+    std::vector<std::size_t> next(pairs.size(), 0); // per patch, then where its next run goes
     for (std::size_t n = 0; n < blockCount; ++n) {
         const BlockMesh& block = blocks[n];
-        start[n].resize(block.patches.size());
         for (std::size_t l = 0; l < block.patches.size(); ++l) {
-            users[patchIndex[block.patches[l]]].push_back({n, l});
+            const auto p = std::size_t(
+                std::lower_bound(pairs.begin(), pairs.end(), block.patches[l]) - pairs.begin());
+            patchOf[firstLocal[n] + l] = std::uint32_t(p);
+            next[p] += block.patchCounts[l];
         }
     }
     std::size_t total = 0;
-    for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
-        mesh.patches[p].firstTriangle = total;
-        for (const auto& user : users[p]) {
-            start[user.first][user.second] = total;
-            total += blocks[user.first].patchCounts[user.second];
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+        InterfacePatch& patch = mesh.patches[p];
+        patch.a = pairs[p][0];
+        patch.b = pairs[p][1];
+        patch.firstTriangle = total;
+        patch.triangleCount = next[p];
+        total += next[p];
+        next[p] = patch.firstTriangle;
+    }
+    for (std::size_t n = 0; n < blockCount; ++n) {
+        for (std::size_t i = firstLocal[n]; i < firstLocal[n + 1]; ++i) {
+            start[i] = next[patchOf[i]];
+            next[patchOf[i]] += blocks[n].patchCounts[i - firstLocal[n]];
         }
-        mesh.patches[p].triangleCount = total - mesh.patches[p].firstTriangle;
     }
 
     // 4. Per block, in one pass over its data: the global indices of its keys (their owners'
@@ -275,11 +284,11 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
                     }
                 }
                 if (block.corners32.empty()) {
-                    scatterTriangles(block, block.corners16.data(), global.data(), start[n],
-                                     mesh);
+                    scatterTriangles(block, block.corners16.data(), global.data(),
+                                     start.data() + firstLocal[n], mesh);
                 } else {
-                    scatterTriangles(block, block.corners32.data(), global.data(), start[n],
-                                     mesh);
+                    scatterTriangles(block, block.corners32.data(), global.data(),
+                                     start.data() + firstLocal[n], mesh);
                 }
                 const std::int64_t base[3] = {std::int64_t(K) * origins[n].x(),
                     std::int64_t(K) * origins[n].y(), std::int64_t(K) * origins[n].z()};
