@@ -235,7 +235,9 @@ IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
         const Point q = toPoint(mReferencePoints[i]);
         std::size_t best = 0;
         double bestDistance = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < faces.size(); ++k) {
+        // Nothing is nearer than 0: the first face touching the point is the first of equals
+        // (a point at a corner of the fan, a fifth of them in the first round).
+        for (std::size_t k = 0; k < faces.size() && bestDistance > 0.0; ++k) {
             const Triangle& t = mTriangles[k];
             const double d = distance2(q, t.a, t.b, t.c);
             if (d < bestDistance) {
