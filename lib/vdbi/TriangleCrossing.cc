@@ -135,14 +135,21 @@ trianglesOverlapInPlane(const CornerTriangle& s, const CornerTriangle& t)
     return false;
 }
 
-} // namespace
-
-bool
-trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
+/// Do the bounding boxes of @a s and @a t overlap? Half the pairs the fold test counts do
+/// not: tested inline, before the call.
+inline bool
+boxesOverlap(const CornerTriangle& s, const CornerTriangle& t)
 {
     for (int k = 0; k < 3; ++k) {
         if (s.high[k] < t.low[k] || t.high[k] < s.low[k]) return false;
     }
+    return true;
+}
+
+/// trianglesCross() for boxes that overlap.
+bool
+crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
+{
     int shared = 0, si = -1, ti = -1;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
@@ -182,6 +189,14 @@ trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
     return false;
 }
 
+} // namespace
+
+bool
+trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
+{
+    return boxesOverlap(s, t) && crossesWithinBoxes(s, t);
+}
+
 int
 countCrossings(const std::vector<CornerTriangle>& changed,
                const std::vector<CornerTriangle>& around, const std::vector<char>* suspect,
@@ -191,13 +206,15 @@ countCrossings(const std::vector<CornerTriangle>& changed,
     for (std::size_t i = 0; i < changed.size(); ++i) {
         if (suspect && !(*suspect)[i]) continue;
         const CornerTriangle& s = changed[i];
-        for (const CornerTriangle& t : around) count += trianglesCross(s, t);
+        for (const CornerTriangle& t : around) {
+            count += boxesOverlap(s, t) && crossesWithinBoxes(s, t);
+        }
         // Each pair once: j < i only if j is not tested on its own.
         for (std::size_t j = 0; j < changed.size(); ++j) {
             if (j == i || (j < i && (!suspect || (*suspect)[j]))) continue;
             const CornerTriangle& t = changed[j];
             if (embedded && sharedCorners(s, t) < 2) continue;
-            count += trianglesCross(s, t);
+            count += boxesOverlap(s, t) && crossesWithinBoxes(s, t);
         }
     }
     return count;
