@@ -262,12 +262,6 @@ IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
         const FaceHandle f = faces[k];
         const int first = mMesh.property(mFirstCovered, f);
         if (first == 0) continue;
-        Triangle old = triangle(f);
-        if (before) {
-            auto it = mMesh.cfv_iter(f);
-            const VertexHandle a = *it, b = *++it, c = *++it;
-            old = {(*before)[a.idx()], (*before)[b.idx()], (*before)[c.idx()]};
-        }
         for (int i = first; i != 0; i = mNextCovered[i - 1]) {
             const Point q = toPoint(mReferencePoints[i - 1]);
             // The triangle at the same place in the list first: mostly the face itself.
@@ -276,7 +270,15 @@ IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
                 const Triangle& t = triangles[(k + j) % count];
                 nearest = std::min(nearest, distance2(q, t.a, t.b, t.c));
             }
-            if (nearest > limit2 && nearest > distance2(q, old.a, old.b, old.c)) return false;
+            if (nearest <= limit2) continue;
+            // Rare: only now is the face as it was needed.
+            Triangle old = triangle(f);
+            if (before) {
+                auto it = mMesh.cfv_iter(f);
+                const VertexHandle a = *it, b = *++it, c = *++it;
+                old = {(*before)[a.idx()], (*before)[b.idx()], (*before)[c.idx()]};
+            }
+            if (nearest > distance2(q, old.a, old.b, old.c)) return false;
         }
     }
     return true;
