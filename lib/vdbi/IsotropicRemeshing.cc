@@ -229,8 +229,8 @@ void
 IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
 {
     if (mPoints.empty()) return;
-    mTriangles.clear();
-    for (const FaceHandle f : faces) mTriangles.push_back(triangle(f));
+    mTriangles.resize(faces.size());
+    for (std::size_t k = 0; k < faces.size(); ++k) mTriangles[k] = triangle(faces[k]);
     for (const int i : mPoints) {
         const Point q = toPoint(mReferencePoints[i]);
         std::size_t best = 0;
