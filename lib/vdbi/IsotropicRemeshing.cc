@@ -21,8 +21,10 @@ using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using EdgeHandle = TriMesh::EdgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
-/// Squared distance from @a p to triangle (a, b, c).
-inline double
+/// Squared distance from @a p to triangle (a, b, c). Flattened: the library's own copy of
+/// closestPointOnTriangle() is exported, so a call to it went through the PLT (the bound
+/// checks measure hundreds of millions of distances).
+[[gnu::flatten]] inline double
 distance2(const Point& p, const Point& a, const Point& b, const Point& c)
 {
     Vec3d bary;
