@@ -14,6 +14,10 @@ using Point = TriMesh::Point;
 /// Cosine of the turn beyond which two triangles sharing an edge lie folded onto each other.
 constexpr double FOLD_COS = -0.99619469809174553;   // cos(175 degrees)
 
+/// The corner after corner k of a triangle, and the one before it: (k + 1) % 3 and
+/// (k + 2) % 3 by table (the crossing tests look them up tens of millions of times).
+constexpr int NEXT_CORNER[3] = {1, 2, 0}, PREVIOUS_CORNER[3] = {2, 0, 1};
+
 /// Six times the signed volume of tetrahedron (a, b, c, d).
 inline double
 orient(const Point& a, const Point& b, const Point& c, const Point& d)
@@ -100,8 +104,8 @@ anglesOverlap(const CornerTriangle& s, int si, const CornerTriangle& t, int ti)
     // s turns counter-clockwise about its normal from b to c; t from e to f, or from f to e
     // if it faces the other way.
     const Point& a = s.p[si];
-    const Point b = s.p[(si + 1) % 3] - a, c = s.p[(si + 2) % 3] - a;
-    const Point e = t.p[(ti + 1) % 3] - a, f = t.p[(ti + 2) % 3] - a;
+    const Point b = s.p[NEXT_CORNER[si]] - a, c = s.p[PREVIOUS_CORNER[si]] - a;
+    const Point e = t.p[NEXT_CORNER[ti]] - a, f = t.p[PREVIOUS_CORNER[ti]] - a;
     const Point& n = s.normal;
     const bool same = (t.normal | n) > 0.0;
     const Point u = same ? e : f, w = same ? f : e;
@@ -166,8 +170,8 @@ crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
         return d < 0.0 && d * d > FOLD_COS * FOLD_COS * s.normal.sqrnorm() * t.normal.sqrnorm();
     }
     if (shared == 1) {
-        const Point &b = s.p[(si + 1) % 3], &c = s.p[(si + 2) % 3];
-        const Point &e = t.p[(ti + 1) % 3], &f = t.p[(ti + 2) % 3];
+        const Point &b = s.p[NEXT_CORNER[si]], &c = s.p[PREVIOUS_CORNER[si]];
+        const Point &e = t.p[NEXT_CORNER[ti]], &f = t.p[PREVIOUS_CORNER[ti]];
         const double de = s.normal | (e - s.p[0]), df = s.normal | (f - s.p[0]);
         if (de == 0.0 && df == 0.0) return anglesOverlap(s, si, t, ti);
         // Only the edges opposite the shared corner can meet the other triangle elsewhere.
@@ -244,8 +248,8 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
         const CornerTriangle& t = fan[i];
         return t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
     };
-    auto startOf = [&](std::size_t i) { return fan[i].id[(corner(i) + 1) % 3]; };
-    auto endOf = [&](std::size_t i) { return fan[i].id[(corner(i) + 2) % 3]; };
+    auto startOf = [&](std::size_t i) { return fan[i].id[NEXT_CORNER[corner(i)]]; };
+    auto endOf = [&](std::size_t i) { return fan[i].id[PREVIOUS_CORNER[corner(i)]]; };
     // The triangle that starts where @a i ends (or ends where it starts, if !forward): fans
     // come in the order of their circulation, so the neighbours in the list are tried first.
     auto find = [&](std::size_t i, bool forward) {
@@ -289,14 +293,14 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
     Point up(0, 0, 0);
     for (const CornerTriangle& t : fan) up += t.normal;
     const int k0 = corner(first);
-    const Point x = fan[first].p[(k0 + 1) % 3] - fan[first].p[k0];
+    const Point x = fan[first].p[NEXT_CORNER[k0]] - fan[first].p[k0];
     bool once = true;
     for (std::size_t i = 0; i < count && once; ++i) {
         const CornerTriangle& t = fan[i];
         if (!((t.normal | up) > 0.0)) once = false;
         if (i == first) continue;
         const int k = corner(i);
-        const Point u = t.p[(k + 1) % 3] - t.p[k], w = t.p[(k + 2) % 3] - t.p[k];
+        const Point u = t.p[NEXT_CORNER[k]] - t.p[k], w = t.p[PREVIOUS_CORNER[k]] - t.p[k];
         // Holds x at its start too, not opposite it.
         const double ux = (u % x) | up;
         if ((ux > 0.0 || (ux == 0.0 && (u | x) > 0.0)) && ((x % w) | up) > 0.0) once = false;
