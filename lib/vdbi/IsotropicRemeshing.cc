@@ -21,8 +21,10 @@ using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using EdgeHandle = TriMesh::EdgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
-/// Squared distance from @a p to triangle (a, b, c).
-inline double
+/// Squared distance from @a p to triangle (a, b, c). Flattened: the library's own copy of
+/// closestPointOnTriangle() is exported, so a call to it went through the PLT (the bound
+/// checks measure hundreds of millions of distances).
+[[gnu::flatten]] inline double
 distance2(const Point& p, const Point& a, const Point& b, const Point& c)
 {
     Vec3d bary;
@@ -229,13 +231,15 @@ void
 IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
 {
     if (mPoints.empty()) return;
-    mTriangles.clear();
-    for (const FaceHandle f : faces) mTriangles.push_back(triangle(f));
+    mTriangles.resize(faces.size());
+    for (std::size_t k = 0; k < faces.size(); ++k) mTriangles[k] = triangle(faces[k]);
     for (const int i : mPoints) {
         const Point q = toPoint(mReferencePoints[i]);
         std::size_t best = 0;
         double bestDistance = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < faces.size(); ++k) {
+        // Nothing is nearer than 0: the first face touching the point is the first of equals
+        // (a point at a corner of the fan, a fifth of them in the first round).
+        for (std::size_t k = 0; k < faces.size() && bestDistance > 0.0; ++k) {
             const Triangle& t = mTriangles[k];
             const double d = distance2(q, t.a, t.b, t.c);
             if (d < bestDistance) {
@@ -260,12 +264,6 @@ IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
         const FaceHandle f = faces[k];
         const int first = mMesh.property(mFirstCovered, f);
         if (first == 0) continue;
-        Triangle old = triangle(f);
-        if (before) {
-            auto it = mMesh.cfv_iter(f);
-            const VertexHandle a = *it, b = *++it, c = *++it;
-            old = {(*before)[a.idx()], (*before)[b.idx()], (*before)[c.idx()]};
-        }
         for (int i = first; i != 0; i = mNextCovered[i - 1]) {
             const Point q = toPoint(mReferencePoints[i - 1]);
             // The triangle at the same place in the list first: mostly the face itself.
@@ -274,7 +272,15 @@ IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
                 const Triangle& t = triangles[(k + j) % count];
                 nearest = std::min(nearest, distance2(q, t.a, t.b, t.c));
             }
-            if (nearest > limit2 && nearest > distance2(q, old.a, old.b, old.c)) return false;
+            if (nearest <= limit2) continue;
+            // Rare: only now is the face as it was needed.
+            Triangle old = triangle(f);
+            if (before) {
+                auto it = mMesh.cfv_iter(f);
+                const VertexHandle a = *it, b = *++it, c = *++it;
+                old = {(*before)[a.idx()], (*before)[b.idx()], (*before)[c.idx()]};
+            }
+            if (nearest > distance2(q, old.a, old.b, old.c)) return false;
         }
     }
     return true;

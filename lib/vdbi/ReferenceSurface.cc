@@ -151,8 +151,9 @@ const std::vector<Vec3d>& ReferenceSurface::vertexNormals() const { return mImpl
 namespace {
 
 /// Closest point over the triangles around the given vertices; each triangle is tested once.
+/// Flattened: closestPointOnTriangle() is computed in place, not called through the PLT.
 template<typename Impl>
-bool
+[[gnu::flatten]] bool
 searchAround(const Impl& m, const Vec3d& query, const std::uint32_t* vertices, std::size_t count,
              ReferenceSurface::Hit& hit, Vec3d& bary, double& best)
 {

@@ -11,11 +11,12 @@
 
 #include <openvdb/Exceptions.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -73,8 +74,11 @@ voxelSizeFromKeys(const InterfaceMesh& mesh)
     return best;
 }
 
-/// Calls @a body(p) for every patch, largest first so the long ones do not start last, in
-/// parallel or not.
+/// @brief Calls @a body(p) for every patch, in parallel or not.
+/// @details Largest first, each thread taking the next patch when it is done with one: the
+/// largest patch (a third of the frog) starts at once and the last to start are the
+/// smallest, so the threads finish close together. (A parallel_for over the sorted patches
+/// lets a thread steal the far, small end of the range first.)
 template<typename Body>
 void
 forEachPatch(const InterfaceMesh& raw, bool threaded, const Body& body)
@@ -85,12 +89,20 @@ forEachPatch(const InterfaceMesh& raw, bool threaded, const Body& body)
     std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
         return raw.patches[x].triangleCount > raw.patches[y].triangleCount;
     });
-    auto run = [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) body(order[i]);
+    std::atomic<std::size_t> next(0);
+    auto run = [&] {
+        // A patch that threw cancels the group: the other threads take no new patch.
+        for (std::size_t i = next++; i < count && !tbb::is_current_task_group_canceling();
+             i = next++) {
+            body(order[i]);
+        }
     };
-    const tbb::blocked_range<std::size_t> all(0, count, 1);
-    if (threaded) tbb::parallel_for(all, run, tbb::simple_partitioner());
-    else run(all);
+    if (!threaded) return run();
+    const std::size_t threads =
+        std::min<std::size_t>(count, std::size_t(tbb::this_task_arena::max_concurrency()));
+    tbb::task_group group;
+    for (std::size_t t = 0; t < threads; ++t) group.run(run);
+    group.wait();
 }
 
 double
@@ -139,29 +151,36 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     stats.curveSeconds = secondsSince(clock);
     checkInterrupt(options.interrupter, "remeshing");
 
+    // A patch is remeshed right after its reference surface is built, in one parallel pass:
+    // no thread waits at the end of the references for the largest patch's.
     const std::size_t patchCount = raw.patches.size();
-    std::vector<PatchReference> references(patchCount);
+    std::vector<PatchResult> results(patchCount);
+    std::vector<double> referenceTimes(patchCount, 0.0), remeshingTimes(patchCount, 0.0);
     InterruptFlag interrupt(options.interrupter);
     forEachPatch(raw, options.threaded, [&](std::size_t p) {
         if (interrupt.poll()) return;
-        references[p] = buildPatchReference(raw, p, curves, SURFACE_SMOOTHING,
-                                            voxel * SURFACE_BOUND);
-    });
-    interrupt.throwIfStopped("remeshing");
-    stats.referenceSeconds = secondsSince(clock);
-
-    std::vector<PatchResult> results(patchCount);
-    forEachPatch(raw, options.threaded, [&](std::size_t p) {
+        auto patchClock = std::chrono::steady_clock::now();
+        const PatchReference reference = buildPatchReference(raw, p, curves, SURFACE_SMOOTHING,
+                                                             voxel * SURFACE_BOUND);
+        referenceTimes[p] = secondsSince(patchClock);
         if (interrupt.poll()) return;
-        RemeshingPatch patch(raw.patches[p], std::uint32_t(p), references[p], curves);
+        RemeshingPatch patch(raw.patches[p], std::uint32_t(p), reference, curves);
         patch.attachCurveSamples();
         // Fallback: the extracted triangles fitted to the samples, should a round go wrong.
         PatchResult fitted = patch.exportMesh();
         if (!remeshIsotropically(patch, settings, interrupt)) return;
         results[p] = patch.hasExpectedBoundary() ? patch.exportMesh() : std::move(fitted);
-        references[p] = PatchReference();
+        remeshingTimes[p] = secondsSince(patchClock);
     });
     interrupt.throwIfStopped("remeshing");
+    // The pass's wall time, shared between references and rounds as their summed times are.
+    const double passSeconds = secondsSince(clock);
+    const double referenceSum =
+        std::accumulate(referenceTimes.begin(), referenceTimes.end(), 0.0);
+    const double patchSum =
+        referenceSum + std::accumulate(remeshingTimes.begin(), remeshingTimes.end(), 0.0);
+    stats.referenceSeconds = patchSum > 0.0 ? passSeconds * referenceSum / patchSum : 0.0;
+    const double roundSeconds = passSeconds - stats.referenceSeconds;
 
     InterfaceMesh out;
     const std::uint32_t sampleCount = std::uint32_t(curves.samplePoints.size());
@@ -189,7 +208,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         std::vector<std::array<std::uint32_t, 3>>().swap(r.triangles);
     }
     out.keyScale = 0;
-    stats.remeshingSeconds = secondsSince(clock);
+    stats.remeshingSeconds = roundSeconds + secondsSince(clock);
 
     checkInterrupt(options.interrupter, "remeshing");
     std::vector<std::uint8_t> movable(out.points.size(), 1);

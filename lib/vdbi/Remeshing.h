@@ -32,7 +32,10 @@ struct RemeshOptions
     openvdb::util::NullInterrupter* interrupter = nullptr;
 };
 
-/// Wall seconds of the stages of one remeshPatches() run.
+/// @brief Wall seconds of the stages of one remeshPatches() run.
+/// @details A patch is remeshed right after its reference surface is built, in one parallel
+/// pass over the patches: that pass's wall time is shared between referenceSeconds and
+/// remeshingSeconds as the patches' summed times for the two are.
 struct RemeshStatistics
 {
     double curveSeconds = 0.0;       ///< feature curves found, smoothed and resampled

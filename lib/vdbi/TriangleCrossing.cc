@@ -14,6 +14,10 @@ using Point = TriMesh::Point;
 /// Cosine of the turn beyond which two triangles sharing an edge lie folded onto each other.
 constexpr double FOLD_COS = -0.99619469809174553;   // cos(175 degrees)
 
+/// The corner after corner k of a triangle, and the one before it: (k + 1) % 3 and
+/// (k + 2) % 3 by table (the crossing tests look them up tens of millions of times).
+constexpr int NEXT_CORNER[3] = {1, 2, 0}, PREVIOUS_CORNER[3] = {2, 0, 1};
+
 /// Six times the signed volume of tetrahedron (a, b, c, d).
 inline double
 orient(const Point& a, const Point& b, const Point& c, const Point& d)
@@ -100,8 +104,8 @@ anglesOverlap(const CornerTriangle& s, int si, const CornerTriangle& t, int ti)
     // s turns counter-clockwise about its normal from b to c; t from e to f, or from f to e
     // if it faces the other way.
     const Point& a = s.p[si];
-    const Point b = s.p[(si + 1) % 3] - a, c = s.p[(si + 2) % 3] - a;
-    const Point e = t.p[(ti + 1) % 3] - a, f = t.p[(ti + 2) % 3] - a;
+    const Point b = s.p[NEXT_CORNER[si]] - a, c = s.p[PREVIOUS_CORNER[si]] - a;
+    const Point e = t.p[NEXT_CORNER[ti]] - a, f = t.p[PREVIOUS_CORNER[ti]] - a;
     const Point& n = s.normal;
     const bool same = (t.normal | n) > 0.0;
     const Point u = same ? e : f, w = same ? f : e;
@@ -135,14 +139,21 @@ trianglesOverlapInPlane(const CornerTriangle& s, const CornerTriangle& t)
     return false;
 }
 
-} // namespace
-
-bool
-trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
+/// Do the bounding boxes of @a s and @a t overlap? Half the pairs the fold test counts do
+/// not: tested inline, before the call.
+inline bool
+boxesOverlap(const CornerTriangle& s, const CornerTriangle& t)
 {
     for (int k = 0; k < 3; ++k) {
         if (s.high[k] < t.low[k] || t.high[k] < s.low[k]) return false;
     }
+    return true;
+}
+
+/// trianglesCross() for boxes that overlap.
+bool
+crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
+{
     int shared = 0, si = -1, ti = -1;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
@@ -159,8 +170,8 @@ trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
         return d < 0.0 && d * d > FOLD_COS * FOLD_COS * s.normal.sqrnorm() * t.normal.sqrnorm();
     }
     if (shared == 1) {
-        const Point &b = s.p[(si + 1) % 3], &c = s.p[(si + 2) % 3];
-        const Point &e = t.p[(ti + 1) % 3], &f = t.p[(ti + 2) % 3];
+        const Point &b = s.p[NEXT_CORNER[si]], &c = s.p[PREVIOUS_CORNER[si]];
+        const Point &e = t.p[NEXT_CORNER[ti]], &f = t.p[PREVIOUS_CORNER[ti]];
         const double de = s.normal | (e - s.p[0]), df = s.normal | (f - s.p[0]);
         if (de == 0.0 && df == 0.0) return anglesOverlap(s, si, t, ti);
         // Only the edges opposite the shared corner can meet the other triangle elsewhere.
@@ -182,6 +193,14 @@ trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
     return false;
 }
 
+} // namespace
+
+bool
+trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
+{
+    return boxesOverlap(s, t) && crossesWithinBoxes(s, t);
+}
+
 int
 countCrossings(const std::vector<CornerTriangle>& changed,
                const std::vector<CornerTriangle>& around, const std::vector<char>* suspect,
@@ -191,13 +210,15 @@ countCrossings(const std::vector<CornerTriangle>& changed,
     for (std::size_t i = 0; i < changed.size(); ++i) {
         if (suspect && !(*suspect)[i]) continue;
         const CornerTriangle& s = changed[i];
-        for (const CornerTriangle& t : around) count += trianglesCross(s, t);
+        for (const CornerTriangle& t : around) {
+            count += boxesOverlap(s, t) && crossesWithinBoxes(s, t);
+        }
         // Each pair once: j < i only if j is not tested on its own.
         for (std::size_t j = 0; j < changed.size(); ++j) {
             if (j == i || (j < i && (!suspect || (*suspect)[j]))) continue;
             const CornerTriangle& t = changed[j];
             if (embedded && sharedCorners(s, t) < 2) continue;
-            count += trianglesCross(s, t);
+            count += boxesOverlap(s, t) && crossesWithinBoxes(s, t);
         }
     }
     return count;
@@ -227,8 +248,8 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
         const CornerTriangle& t = fan[i];
         return t.id[0] == centre ? 0 : t.id[1] == centre ? 1 : 2;
     };
-    auto startOf = [&](std::size_t i) { return fan[i].id[(corner(i) + 1) % 3]; };
-    auto endOf = [&](std::size_t i) { return fan[i].id[(corner(i) + 2) % 3]; };
+    auto startOf = [&](std::size_t i) { return fan[i].id[NEXT_CORNER[corner(i)]]; };
+    auto endOf = [&](std::size_t i) { return fan[i].id[PREVIOUS_CORNER[corner(i)]]; };
     // The triangle that starts where @a i ends (or ends where it starts, if !forward): fans
     // come in the order of their circulation, so the neighbours in the list are tried first.
     auto find = [&](std::size_t i, bool forward) {
@@ -272,14 +293,14 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
     Point up(0, 0, 0);
     for (const CornerTriangle& t : fan) up += t.normal;
     const int k0 = corner(first);
-    const Point x = fan[first].p[(k0 + 1) % 3] - fan[first].p[k0];
+    const Point x = fan[first].p[NEXT_CORNER[k0]] - fan[first].p[k0];
     bool once = true;
     for (std::size_t i = 0; i < count && once; ++i) {
         const CornerTriangle& t = fan[i];
         if (!((t.normal | up) > 0.0)) once = false;
         if (i == first) continue;
         const int k = corner(i);
-        const Point u = t.p[(k + 1) % 3] - t.p[k], w = t.p[(k + 2) % 3] - t.p[k];
+        const Point u = t.p[NEXT_CORNER[k]] - t.p[k], w = t.p[PREVIOUS_CORNER[k]] - t.p[k];
         // Holds x at its start too, not opposite it.
         const double ux = (u % x) | up;
         if ((ux > 0.0 || (ux == 0.0 && (u | x) > 0.0)) && ((x % w) | up) > 0.0) once = false;
