@@ -158,7 +158,7 @@ dropUnchanged(LeafT& leaf, CoarseAccessor& coarse, int s)
 
 /// @brief Runs the passes into @a fine (active voxels: the labels that differ from the
 /// coarse ones in @a coarse), one leaf at a time.
-/// @details The leaves the claims touch are listed, sorted, found or made in parallel and
+/// @details The leaves the claims touch are listed, sorted and made in parallel, then
 /// added to the tree in one thread (its nodes are not thread-safe). Then each leaf, in
 /// parallel, takes all passes' claims on it in pass order and drops what equals the coarse
 /// label, while its values are in cache: every leaf is written by one thread, so no tree per
@@ -238,8 +238,8 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
             std::size_t pass = 0;
             for (std::size_t t = firstTouch[l]; t < firstTouch[l + 1]; ++t) {
                 const std::uint32_t n = touches[t].second;
-                if (n >= passes.ends[pass]) { // the next pass (some may be empty)
-                    while (n >= passes.ends[pass]) ++pass;
+                while (n >= passes.ends[pass]) { // the next pass (some may be empty)
+                    ++pass;
                     written.setOff();
                 }
                 writeByPriority(*leaves[l], written, claims[n].box, claims[n].label,
