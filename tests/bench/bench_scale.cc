@@ -23,6 +23,13 @@
 /// starting at another volume, after one warm-up round, so that the load of a shared machine
 /// hits them alike. The parent never starts TBB itself.
 ///
+/// On a virtual machine, memory new to the process can be new to the host too, and the host
+/// backing it on first touch can cost more than the run's own work (README, Benchmarks). So
+/// that every timed run finds its memory in the same state, whatever ran before it (a smaller
+/// k, or the same k with the other thread count), each timed run is preceded by touching and
+/// freeing more memory than it will use; the first runs of the memory children show the cost
+/// of memory new to a process.
+///
 /// Usage: bench_scale [--reps N] [--span S] [--seed X] [--max-k K]
 ///        (defaults: 5 rounds, span 100000, seed 1, K 16)
 
@@ -39,6 +46,8 @@
 #include <openvdb/openvdb.h>
 
 #include <tbb/global_control.h>
+
+#include <sys/mman.h>
 
 #include <algorithm>
 #include <array>
@@ -71,6 +80,24 @@ constexpr int THREAD_COUNTS[] = {1, 2};
 constexpr int LABEL_STRIDE = 30;
 /// Empty voxels between the bounding boxes of any two copies.
 constexpr int GAP = 16;
+
+/// Bytes per labelled voxel that a run of repair + extraction may take: above its peak
+/// growth (about 270 at every k on the frog copies).
+constexpr std::size_t WARM_BYTES_PER_VOXEL = 400;
+
+/// Touches @a bytes of fresh memory, one write per page, and gives it back, so that the next
+/// allocations find pages the host already backs.
+void
+warmMemory(std::size_t bytes)
+{
+    void* block = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+                       -1, 0);
+    if (block == MAP_FAILED) return; // only a worse measurement: nothing to fail for
+    madvise(block, bytes, MADV_HUGEPAGE); // the pages the heap asks for (HugePages.h)
+    auto* bytesOf = static_cast<volatile char*>(block);
+    for (std::size_t b = 0; b < bytes; b += 4096) bytesOf[b] = 1;
+    munmap(block, bytes);
+}
 
 /// The settings of one invocation.
 struct Settings
@@ -240,6 +267,8 @@ measureTimes(int cases, const Settings& settings)
             for (std::size_t t = 0; t < 2; ++t) {
                 tbb::global_control control(tbb::global_control::max_allowed_parallelism,
                     std::size_t(THREAD_COUNTS[t]));
+                warmMemory(WARM_BYTES_PER_VOXEL
+                    * std::size_t(volumes[std::size_t(n)]->activeVoxelCount()));
                 const double c0 = vdbi_bench::cpuSeconds();
                 const RunSeconds r = repairAndExtract(volumes[std::size_t(n)]);
                 const double cpu = vdbi_bench::cpuSeconds() - c0;
@@ -340,7 +369,8 @@ main(int argc, char** argv)
         largest.inputBytes);
 
     std::printf("\nrepair + extraction, median wall seconds of %d rounds (interleaved over k "
-        "and threads, after a warm-up round); per labelled voxel in ns\n", settings.reps);
+        "and threads, after a warm-up round; each run after warming %zu bytes\nper labelled "
+        "voxel of memory); per labelled voxel in ns\n", settings.reps, WARM_BYTES_PER_VOXEL);
     std::printf("%3s %9s %9s %7s | %9s %9s %7s | %8s | %8s %8s %8s %8s %8s %8s\n", "k",
         "1 thr s", "ns/voxel", "ratio", "2 thr s", "ns/voxel", "ratio", "speedup", "crit 1",
         "fat 1", "ext 1", "crit 2", "fat 2", "ext 2");
