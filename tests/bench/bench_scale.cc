@@ -27,8 +27,9 @@
 /// backing it on first touch can cost more than the run's own work (README, Benchmarks). So
 /// that every timed run finds its memory in the same state, whatever ran before it (a smaller
 /// k, or the same k with the other thread count), each timed run is preceded by touching and
-/// freeing more memory than it will use; the first runs of the memory children show the cost
-/// of memory new to a process.
+/// freeing more memory than it will use. The memory children do the same before each of
+/// their runs, so these runs still write only pages new to the process (their heap is
+/// trimmed first) but no longer depend on what the host did with them.
 ///
 /// Usage: bench_scale [--reps N] [--span S] [--seed X] [--max-k K]
 ///        (defaults: 5 rounds, span 100000, seed 1, K 16)
@@ -201,7 +202,7 @@ struct MemoryResult
     /// Per thread count: VmHWM during repair + extraction (absolute), and the growth over the
     /// RSS before it.
     std::array<long, 2> peakKb{}, growthKb{};
-    /// Per thread count: seconds of that single run, the first in its process (every page it
+    /// Per thread count: seconds of that single run, after the heap was trimmed (every page it
     /// writes is new to the process), beside the timing process's medians of repeated runs.
     std::array<double, 2> firstRunSeconds{};
     bool ok = false;
@@ -228,6 +229,8 @@ measureMemory(int count, const Settings& settings)
         tbb::global_control control(tbb::global_control::max_allowed_parallelism,
             std::size_t(THREAD_COUNTS[t]));
         vdbi::InterfaceMesh mesh;
+        // Before the reset: its peak is not the run's.
+        warmMemory(WARM_BYTES_PER_VOXEL * std::size_t(r.labelledVoxels));
         const bool canPeak = resetPeak();
         const MemKb before = readMem();
         r.firstRunSeconds[t] = repairAndExtract(labels, &mesh).total;
@@ -427,8 +430,9 @@ main(int argc, char** argv)
         std::printf("  k=%-2d %7ld / %7ld / %7ld / %7ld; %7ld / %7ld\n", COPY_COUNTS[n],
             m.emptyKb, m.volumeKb, m.peakKb[0], m.peakKb[1], m.growthKb[0], m.growthKb[1]);
     }
-    std::printf("one run per k in a process of its own (the memory runs: 1 thread first, then 2), "
-        "repair + extraction s, ns per labelled voxel and its ratio to k = 1:\n");
+    std::printf("one run per k and thread count on pages new to the process (the memory runs, "
+        "each after a heap trim),\nrepair + extraction s, ns per labelled voxel and its ratio to "
+        "k = 1:\n");
     for (int n = 0; n < cases; ++n) {
         const MemoryResult& m = mem[std::size_t(n)];
         std::printf("  k=%-2d", COPY_COUNTS[n]);
