@@ -86,11 +86,13 @@ constexpr int GAP = 16;
 /// growth (about 270 at every k on the frog copies).
 constexpr std::size_t WARM_BYTES_PER_VOXEL = 400;
 
-/// Touches @a bytes of fresh memory, one write per page, and gives it back, so that the next
-/// allocations find pages the host already backs.
+/// Touches fresh memory for a run over @a labelledVoxels (WARM_BYTES_PER_VOXEL each), one
+/// write per page, and gives it back, so that the run's allocations find pages the host
+/// already backs.
 void
-warmMemory(std::size_t bytes)
+warmMemory(openvdb::Index64 labelledVoxels)
 {
+    const std::size_t bytes = WARM_BYTES_PER_VOXEL * std::size_t(labelledVoxels);
     void* block = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
                        -1, 0);
     if (block == MAP_FAILED) return; // only a worse measurement: nothing to fail for
@@ -230,7 +232,7 @@ measureMemory(int count, const Settings& settings)
             std::size_t(THREAD_COUNTS[t]));
         vdbi::InterfaceMesh mesh;
         // Before the reset: its peak is not the run's.
-        warmMemory(WARM_BYTES_PER_VOXEL * std::size_t(r.labelledVoxels));
+        warmMemory(openvdb::Index64(r.labelledVoxels));
         const bool canPeak = resetPeak();
         const MemKb before = readMem();
         r.firstRunSeconds[t] = repairAndExtract(labels, &mesh).total;
@@ -270,8 +272,7 @@ measureTimes(int cases, const Settings& settings)
             for (std::size_t t = 0; t < 2; ++t) {
                 tbb::global_control control(tbb::global_control::max_allowed_parallelism,
                     std::size_t(THREAD_COUNTS[t]));
-                warmMemory(WARM_BYTES_PER_VOXEL
-                    * std::size_t(volumes[std::size_t(n)]->activeVoxelCount()));
+                warmMemory(volumes[std::size_t(n)]->activeVoxelCount());
                 const double c0 = vdbi_bench::cpuSeconds();
                 const RunSeconds r = repairAndExtract(volumes[std::size_t(n)]);
                 const double cpu = vdbi_bench::cpuSeconds() - c0;
