@@ -116,6 +116,29 @@ TEST_F(TestPatchSeparation, testFoldOnSharedEdgeOpens)
     EXPECT_GT(mesh.points[3].z(), 0.0);
 }
 
+// A free corner of patch (1, 2) rests exactly on the locked triangle of (0, 1) in the plane
+// z = 0, inside it: the triangles touch without crossing (as curve samples and projected
+// vertices line up on flat stretches of the reference), and the wedge of label 1 between
+// them pinches to a point. The independent checker counts touching; separation must see it
+// too and lift the corner away from label 1.
+TEST_F(TestPatchSeparation, testTouchingContactOpens)
+{
+    const std::vector<Vec3d> points = {Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(0, 2, 0),   // (0, 1)
+                                       Vec3d(0.5, 0.5, 0), Vec3d(1.5, 0.5, 1),
+                                       Vec3d(0.5, 1.5, 1)};                               // (1, 2)
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{0, 1, {Vec3I(0, 1, 2)}},
+                                                 {1, 2, {Vec3I(3, 4, 5)}}});
+    ASSERT_EQ(intersectingPairs(mesh), (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 1}}));
+
+    const vdbi::InterfaceMesh before = mesh;
+    const std::vector<std::uint8_t> movable = {0, 0, 0, 1, 0, 0};
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, unitSettings()), 0u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    expectAllowedMoves(before, mesh, movable, 0.4);
+    // Label 1 lies above (0, 1) and below (1, 2): the corner went up.
+    EXPECT_GT(mesh.points[3].z(), 0.0);
+}
+
 // Curve edge 0-1 of patch (0, 1) runs through a triangle of (1, 2) whose corners are all
 // curve samples: no move of an inner vertex can resolve that pair, so separation keeps
 // pushing the free corner 2 of (0, 1) away from label 1 (down), up to the limit. A locked

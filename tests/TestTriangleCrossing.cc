@@ -128,6 +128,46 @@ TEST_F(TestTriangleCrossing, testAgreesWithIndependentCheck)
     EXPECT_LT(tolerated, 1000u);   // about 2 % of the pairs sharing an edge
 }
 
+TEST_F(TestTriangleCrossing, testTouchAgreesWithIndependentCheck)
+{
+    // Random pairs on a coarse integer lattice, so that corners land on the other triangle's
+    // edges and planes and edges run along each other: the independent check counts touching
+    // as meeting, and so must trianglesTouch(); trianglesCross() must not.
+    std::mt19937 rng(20261203);
+    std::uniform_int_distribution<int> coordinate(-2, 2);
+    std::size_t touching = 0, crossing = 0, apart = 0, tolerated = 0;
+    for (int trial = 0; trial < 60000; ++trial) {
+        const bool flat = trial % 2 == 0;
+        vdbi::PointArray points(6);
+        for (auto& p : points) {
+            p = openvdb::Vec3d(coordinate(rng), coordinate(rng), flat ? 0 : coordinate(rng));
+        }
+        const int shared = trial / 2 % 3;
+        const openvdb::Vec3I s(0, 1, 2);
+        openvdb::Vec3I t(3, 4, 5);
+        if (shared >= 1) t = openvdb::Vec3I(0, 4, 5);
+        if (shared == 2) t = openvdb::Vec3I(1, 0, 5);
+        const CornerTriangle cs = corner(points, s), ct = corner(points, t);
+        if (cs.normal.sqrnorm() == 0.0 || ct.normal.sqrnorm() == 0.0) continue;   // degenerate
+        const bool expected = vdbi_test::trianglesIntersect(points, s, t);
+        const bool found = vdbi::trianglesTouch(cs, ct);
+        const bool crosses = vdbi::trianglesCross(cs, ct);
+        if (found != expected && shared == 2 && found && turnDegrees(cs, ct) > 175.0) {
+            ++tolerated;
+            continue;
+        }
+        ASSERT_EQ(found, expected) << "trial " << trial << ", " << shared << " shared, "
+                                   << (flat ? "flat" : "not flat");
+        ASSERT_TRUE(found || !crosses) << "trial " << trial;
+        ++(crosses ? crossing : found ? touching : apart);
+    }
+    // Touching without crossing is common here, as are the other answers.
+    EXPECT_GT(touching, 2000u);
+    EXPECT_GT(crossing, 2000u);
+    EXPECT_GT(apart, 2000u);
+    EXPECT_LT(tolerated, 1000u);
+}
+
 TEST_F(TestTriangleCrossing, testCountCrossings)
 {
     // A flat fan has none; lifting every other corner far above the plane folds nothing

@@ -18,7 +18,7 @@ namespace {
 
 using Vec3d = openvdb::Vec3d;
 
-/// Triangle @a t as trianglesCross() takes it, turned around (two corners swapped) if @a flip.
+/// Triangle @a t as trianglesTouch() takes it, turned around (two corners swapped) if @a flip.
 CornerTriangle
 cornerTriangle(const PointArray& points, const openvdb::Vec3I& t, bool flip)
 {
@@ -40,7 +40,10 @@ runsAlongSameWay(const openvdb::Vec3I& s, const openvdb::Vec3I& t)
 }
 
 /// @brief Do triangles @a s and @a t meet other than in the corners and edges they share?
-/// @details trianglesCross() (TriangleCrossing.h), which reads a fold of two triangles
+/// @details trianglesTouch() (TriangleCrossing.h): touching counts, as curve samples and
+/// vertices projected onto a flat stretch of the reference surface can line up exactly, and
+/// a wedge of label pinched to a point or a line is no better than one turned inside out.
+/// It reads a fold of two triangles
 /// sharing an edge from normals turned by almost 180 degrees: that holds for two triangles
 /// running along the edge in opposite directions, as within a consistently oriented patch.
 /// Every patch is oriented by its own label pair, so a triangle of another patch running
@@ -52,7 +55,7 @@ trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::
     CornerTriangle first = cornerTriangle(points, s, false);
     CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
     if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
-    return trianglesCross(first, second);
+    return trianglesTouch(first, second);
 }
 
 /// Calls @a body(c, begin, end) for chunk c = [begin, end) of [0, count) in chunks of fixed

@@ -34,9 +34,9 @@ struct SeparationSettings
 /// strip of triangles along the curve may swing through the other patch where the label
 /// between them is thin (a wedge of one voxel). Two such patches usually share a label; the
 /// wedge of that label has turned inside out. Each round finds the pairs of triangles that
-/// meet other than in shared corners and edges (trianglesCross() of TriangleCrossing.h:
-/// edges through triangles, triangles in one plane overlapping, and triangles sharing an
-/// edge folded onto each other; a uniform grid gives the candidates) and moves each free
+/// meet other than in shared corners and edges (trianglesTouch() of TriangleCrossing.h:
+/// edges through or touching triangles, triangles in one plane overlapping or touching, and
+/// triangles sharing an edge folded onto each other; a uniform grid gives the candidates) and moves each free
 /// corner of such a triangle one step along its vertex normal, away from the shared label:
 /// both sides turn back and the wedge opens. A corner takes the first move that leaves fewer
 /// meeting pairs around it: that push, the mean of its neighbours (which opens a folded fan,

@@ -46,6 +46,13 @@ oneSide(const double (&h)[3])
     return (h[0] > 0.0 && h[1] > 0.0 && h[2] > 0.0) || (h[0] < 0.0 && h[1] < 0.0 && h[2] < 0.0);
 }
 
+/// Are all three on one side of zero or on it (not all on it)?
+inline bool
+closedOneSide(const double (&h)[3])
+{
+    return (h[0] >= 0.0 && h[1] >= 0.0 && h[2] >= 0.0) || (h[0] <= 0.0 && h[1] <= 0.0 && h[2] <= 0.0);
+}
+
 /// Does segment pq, whose ends lie @a dp and @a dq above the plane of @a t (in units of its
 /// normal), pass through the inside of @a t (touching does not count)?
 inline bool
@@ -56,6 +63,19 @@ segmentCrossesTriangle(const Point& p, const Point& q, double dp, double dq,
     const double o[3] = {orient(p, q, t.p[0], t.p[1]), orient(p, q, t.p[1], t.p[2]),
                          orient(p, q, t.p[2], t.p[0])};
     return oneSide(o);
+}
+
+/// Does segment pq, not in the plane of @a t, meet @a t, its edges and corners included?
+inline bool
+segmentMeetsTriangle(const Point& p, const Point& q, double dp, double dq,
+                     const CornerTriangle& t)
+{
+    if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || (dp == 0.0 && dq == 0.0)) {
+        return false;
+    }
+    const double o[3] = {orient(p, q, t.p[0], t.p[1]), orient(p, q, t.p[1], t.p[2]),
+                         orient(p, q, t.p[2], t.p[0])};
+    return closedOneSide(o);
 }
 
 inline bool
@@ -139,6 +159,47 @@ trianglesOverlapInPlane(const CornerTriangle& s, const CornerTriangle& t)
     return false;
 }
 
+/// Do segments ab and cd of the plane normal to @a n have a common point (ends included)?
+bool
+segmentsMeetInPlane(const Point& n, const Point& a, const Point& b, const Point& c,
+                    const Point& d)
+{
+    const double c1 = side(n, a, b, c), d1 = side(n, a, b, d);
+    if (c1 == 0.0 && d1 == 0.0) {
+        // On one line: do their extents along it overlap?
+        const Point ab = b - a;
+        const double tc = (c - a) | ab, td = (d - a) | ab, tb = ab | ab;
+        return std::max(0.0, std::min(tc, td)) <= std::min(tb, std::max(tc, td));
+    }
+    const double a1 = side(n, c, d, a), b1 = side(n, c, d, b);
+    return !((c1 > 0.0 && d1 > 0.0) || (c1 < 0.0 && d1 < 0.0))
+        && !((a1 > 0.0 && b1 > 0.0) || (a1 < 0.0 && b1 < 0.0));
+}
+
+/// Is x inside triangle t of the plane normal to @a n or on its edges (either orientation)?
+inline bool
+onOrInsideInPlane(const Point& n, const CornerTriangle& t, const Point& x)
+{
+    const double d[3] = {side(n, t.p[0], t.p[1], x), side(n, t.p[1], t.p[2], x),
+                         side(n, t.p[2], t.p[0], x)};
+    return closedOneSide(d);
+}
+
+/// Do @a s and @a t, one plane, sharing no corner, have a common point?
+bool
+trianglesMeetInPlane(const CornerTriangle& s, const CornerTriangle& t)
+{
+    const Point& n = s.normal;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (segmentsMeetInPlane(n, s.p[i], s.p[NEXT_CORNER[i]], t.p[j], t.p[NEXT_CORNER[j]])) {
+                return true;
+            }
+        }
+    }
+    return onOrInsideInPlane(n, s, t.p[0]) || onOrInsideInPlane(n, t, s.p[0]);
+}
+
 /// Do the bounding boxes of @a s and @a t overlap? Half the pairs the fold test counts do
 /// not: tested inline, before the call.
 inline bool
@@ -193,12 +254,62 @@ crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
     return false;
 }
 
+/// trianglesTouch() for boxes that overlap; @a s has an area.
+bool
+touchesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
+{
+    int shared = 0, si = -1, ti = -1;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (s.id[i] == t.id[j]) {
+                ++shared;
+                si = i;
+                ti = j;
+            }
+        }
+    }
+    if (shared >= 2) return crossesWithinBoxes(s, t);
+    if (shared == 1) {
+        const Point &b = s.p[NEXT_CORNER[si]], &c = s.p[PREVIOUS_CORNER[si]];
+        const Point &e = t.p[NEXT_CORNER[ti]], &f = t.p[PREVIOUS_CORNER[ti]];
+        const double de = s.normal | (e - s.p[0]), df = s.normal | (f - s.p[0]);
+        if (de == 0.0 && df == 0.0) return anglesOverlap(s, si, t, ti);
+        // Both contain the shared corner and are convex: they have another common point
+        // exactly when an edge opposite it meets the other triangle.
+        const double db = t.normal | (b - t.p[0]), dc = t.normal | (c - t.p[0]);
+        return segmentMeetsTriangle(e, f, de, df, s) || segmentMeetsTriangle(b, c, db, dc, t);
+    }
+    double o[3], r[3];
+    for (int i = 0; i < 3; ++i) o[i] = s.normal | (t.p[i] - s.p[0]);
+    if (oneSide(o)) return false;
+    if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) return trianglesMeetInPlane(s, t);
+    for (int i = 0; i < 3; ++i) r[i] = t.normal | (s.p[i] - t.p[0]);
+    if (oneSide(r)) return false;
+    for (int i = 0; i < 3; ++i) {
+        const int j = NEXT_CORNER[i];
+        if (segmentMeetsTriangle(s.p[i], s.p[j], r[i], r[j], t)
+            || segmentMeetsTriangle(t.p[i], t.p[j], o[i], o[j], s)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 } // namespace
 
 bool
 trianglesCross(const CornerTriangle& s, const CornerTriangle& t)
 {
     return boxesOverlap(s, t) && crossesWithinBoxes(s, t);
+}
+
+bool
+trianglesTouch(const CornerTriangle& s, const CornerTriangle& t)
+{
+    if (!boxesOverlap(s, t)) return false;
+    if (s.normal.sqrnorm() > 0.0) return touchesWithinBoxes(s, t);
+    if (t.normal.sqrnorm() > 0.0) return touchesWithinBoxes(t, s);
+    return crossesWithinBoxes(s, t);
 }
 
 int

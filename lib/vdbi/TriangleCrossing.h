@@ -47,6 +47,12 @@ struct CornerTriangle
 /// one plane, when they overlap. Three shared corners make the same triangle: it crosses.
 bool trianglesCross(const CornerTriangle& s, const CornerTriangle& t);
 
+/// @brief Like trianglesCross(), but touching counts too: do @a s and @a t have a common point
+/// other than the corners and edge they share, their edges and corners included?
+/// @details Sharing a corner in one plane, or an edge, the answer is trianglesCross()'s. Two
+/// triangles without area are passed to trianglesCross().
+bool trianglesTouch(const CornerTriangle& s, const CornerTriangle& t);
+
 /// @brief Crossing pairs between @a changed and @a around plus those within @a changed.
 /// @param suspect   if given, only pairs with a flagged triangle of @a changed are tested
 /// @param embedded  the triangles of @a changed are known to meet each other only in the
