@@ -4,9 +4,8 @@
 
 #include <vdbi/Interruption.h>
 #include <vdbi/LabelWindow.h>
+#include <vdbi/ParallelRanges.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -247,18 +246,15 @@ findCriticalElements(const openvdb::Int32Grid& grid, const RepairOptions& option
     std::vector<BlockResult> results(origins.size());
     InterruptFlag interrupt(options.interrupter);
 
-    auto scan = [&](const tbb::blocked_range<std::size_t>& range) {
+    forEachRange(origins.size(), 16, options.threaded, [&](std::size_t begin, std::size_t end) {
         if (interrupt.poll()) return;
         LabelWindow::Accessor acc(grid.tree());
         LabelWindow window;
-        for (std::size_t b = range.begin(); b < range.end(); ++b) {
+        for (std::size_t b = begin; b < end; ++b) {
             window.load(acc, origins[b]);
             scanBlock(window, options, results[b]);
         }
-    };
-    const tbb::blocked_range<std::size_t> all(0, origins.size(), 16);
-    if (options.threaded) tbb::parallel_for(all, scan);
-    else scan(all);
+    });
     interrupt.throwIfStopped("critical elements");
 
     // Blocks are sorted and each block emits in (x, y, z) order of its points, which is not

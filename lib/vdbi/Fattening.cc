@@ -3,11 +3,10 @@
 #include <vdbi/Fattening.h>
 
 #include <vdbi/Interruption.h>
+#include <vdbi/ParallelRanges.h>
 
 #include <openvdb/tools/Prune.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -168,19 +167,13 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
           int s, const RepairOptions& options)
 {
     constexpr int DIM = int(LeafT::DIM);
-    auto forEach = [&options](std::size_t count, std::size_t grain, const auto& body) {
-        const tbb::blocked_range<std::size_t> all(0, count, grain);
-        if (options.threaded) tbb::parallel_for(all, body);
-        else body(all);
-    };
     // (leaf origin, claim) for every leaf a claim overlaps, by leaf then claim: per claim,
     // its leaves are counted, then written at their offsets.
     const std::vector<Claim>& claims = passes.claims;
-    auto leafOf = [](const Coord& c) { return Coord(c.x() & ~(DIM - 1), c.y() & ~(DIM - 1),
-                                                    c.z() & ~(DIM - 1)); };
+    auto leafOf = [](const Coord& c) { return c & ~(DIM - 1); };
     std::vector<std::size_t> firstOf(claims.size() + 1, 0);
-    forEach(claims.size(), 256, [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+    forEachRange(claims.size(), 256, options.threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t n = begin; n < end; ++n) {
             const Coord lo = leafOf(claims[n].box.min()), hi = leafOf(claims[n].box.max());
             firstOf[n + 1] = std::size_t((hi.x() - lo.x()) / DIM + 1)
                 * std::size_t((hi.y() - lo.y()) / DIM + 1)
@@ -189,8 +182,8 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
     });
     for (std::size_t n = 0; n < claims.size(); ++n) firstOf[n + 1] += firstOf[n];
     std::vector<std::pair<Coord, std::uint32_t>> touches(firstOf.back());
-    forEach(claims.size(), 256, [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+    forEachRange(claims.size(), 256, options.threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t n = begin; n < end; ++n) {
             const CoordBBox& box = claims[n].box;
             const Coord lo = leafOf(box.min());
             std::size_t t = firstOf[n];
@@ -215,8 +208,8 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
     // Every leaf is new (the tree starts empty): made in parallel, as making one is the
     // first touch of its memory, then added in one thread.
     std::vector<std::unique_ptr<LeafT>> made(leafCount);
-    forEach(leafCount, 64, [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t l = range.begin(); l < range.end(); ++l) {
+    forEachRange(leafCount, 64, options.threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t l = begin; l < end; ++l) {
             made[l] = std::make_unique<LeafT>(touches[firstTouch[l]].first, fine.background());
         }
     });
@@ -230,10 +223,10 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
     }
 
     InterruptFlag interrupt(options.interrupter);
-    forEach(leafCount, 64, [&](const tbb::blocked_range<std::size_t>& range) {
+    forEachRange(leafCount, 64, options.threaded, [&](std::size_t begin, std::size_t end) {
         if (interrupt.poll()) return;
         openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> coarseAcc(coarse);
-        for (std::size_t l = range.begin(); l < range.end(); ++l) {
+        for (std::size_t l = begin; l < end; ++l) {
             LeafT::NodeMaskType written; // by the current pass
             std::size_t pass = 0;
             for (std::size_t t = firstTouch[l]; t < firstTouch[l + 1]; ++t) {

@@ -3,10 +3,9 @@
 #include <vdbi/FeatureCurves.h>
 
 #include <vdbi/Exceptions.h>
+#include <vdbi/ParallelRanges.h>
 #include <vdbi/ReferenceSurface.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -23,12 +22,9 @@ template<typename Body>
 void
 forEachIndex(std::size_t count, bool threaded, const Body& body)
 {
-    auto run = [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
-    };
-    const tbb::blocked_range<std::size_t> all(0, count, 1);
-    if (threaded) tbb::parallel_for(all, run);
-    else run(all);
+    forEachRange(count, 1, threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) body(i);
+    });
 }
 
 /// Undirected edges of one patch that lie in exactly one of its triangles, sorted.

@@ -5,11 +5,10 @@
 #include <vdbi/BlockFaces.h>
 #include <vdbi/Interruption.h>
 #include <vdbi/LabelWindow.h>
+#include <vdbi/ParallelRanges.h>
 
 #include <openvdb/Exceptions.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -47,18 +46,15 @@ extractionBlocks(const RefinedLabels& labels, bool threaded)
     return withPositiveNeighbours(origins);
 }
 
-/// Runs @a body(range) over chunks of [0, n), polling the interrupter once per chunk.
+/// Runs @a body(begin, end) over ranges of [0, n), polling the interrupter once per range.
 template<typename Body>
 void
 forEachChunk(std::size_t n, bool threaded, InterruptFlag& interrupt, const Body& body,
              std::size_t grain)
 {
-    auto run = [&](const tbb::blocked_range<std::size_t>& r) {
-        if (!interrupt.poll()) body(r);
-    };
-    const tbb::blocked_range<std::size_t> all(0, n, grain);
-    if (threaded) tbb::parallel_for(all, run);
-    else run(all);
+    forEachRange(n, grain, threaded, [&](std::size_t begin, std::size_t end) {
+        if (!interrupt.poll()) body(begin, end);
+    });
 }
 
 /// Bit a of the result: @a k lies on the block's max face along axis a (@a limit = 8 * 2s).
@@ -122,14 +118,14 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     // 1. Triangles per block, with block-local keys, sorted by the block that numbers them:
     //    itself, or for the keys on its max faces the neighbour beyond.
     forEachChunk(blockCount, options.threaded, interrupt,
-                 [&](const tbb::blocked_range<std::size_t>& range) {
+                 [&](std::size_t begin, std::size_t end) {
         LabelWindow::Accessor acc(labels.coarse->tree());
         MaskWindow::Accessor maskAcc(labels.subdivided->tree());
         auto window = std::make_unique<LabelWindow>();
         auto mask = std::make_unique<MaskWindow>();
         extraction::BlockFaceWalker walker(labels);
         std::vector<std::uint8_t> owner; // per face key of a block: handOverDirection()
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+        for (std::size_t n = begin; n < end; ++n) {
             // Blocks outside the owner box emit nothing but still number their keys.
             if (!options.ownerBox.empty() && !options.ownerBox.hasOverlap(
                     openvdb::CoordBBox(origins[n], origins[n].offsetBy(BLOCK_DIM - 1)))) {
@@ -170,12 +166,12 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     //    every key its rank: each key has one owner, so the writes of different blocks go to
     //    different places.
     forEachChunk(blockCount, options.threaded, interrupt,
-                 [&](const tbb::blocked_range<std::size_t>& range) {
+                 [&](std::size_t begin, std::size_t end) {
         // key << 32 | d << 29 | i: key i of the block at origin - 8d, in this block's local
         // coordinates. A block holds fewer than 2^29 keys ((8 * 2s + 1)^3 <= 241^3 < 2^29).
         std::vector<std::uint64_t> entries;
         BlockMesh* from[8];
-        for (std::size_t n = range.begin(); n < range.end(); ++n) {
+        for (std::size_t n = begin; n < end; ++n) {
             entries.clear();
             for (int d = 0; d < 8; ++d) {
                 const std::ptrdiff_t x = d == 0 ? std::ptrdiff_t(n)
@@ -261,10 +257,10 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
     // @a toWorld maps a global key to world space.
     auto finishBlocks = [&](const auto& toWorld) {
         forEachChunk(blockCount, options.threaded, interrupt,
-                     [&](const tbb::blocked_range<std::size_t>& range) {
+                     [&](std::size_t begin, std::size_t end) {
             // Every key of a block gets its global index before the triangles read it.
             extraction::UninitializedVector<std::uint32_t> global;
-            for (std::size_t n = range.begin(); n < range.end(); ++n) {
+            for (std::size_t n = begin; n < end; ++n) {
                 BlockMesh& block = blocks[n];
                 global.resize(block.keys.size());
                 for (std::uint32_t i = 0; i < block.insideCount; ++i) {

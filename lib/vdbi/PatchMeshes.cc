@@ -3,9 +3,7 @@
 #include <vdbi/PatchMeshes.h>
 
 #include <vdbi/Exceptions.h>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <vdbi/ParallelRanges.h>
 
 #include <sstream>
 #include <unordered_map>
@@ -50,14 +48,9 @@ std::vector<PatchMesh>
 toPatchMeshes(const InterfaceMesh& mesh, bool threaded)
 {
     std::vector<PatchMesh> patches(mesh.patches.size());
-    auto convert = [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t p = r.begin(); p < r.end(); ++p) {
-            convertPatch(mesh, mesh.patches[p], patches[p]);
-        }
-    };
-    const tbb::blocked_range<std::size_t> all(0, patches.size(), 1);
-    if (threaded) tbb::parallel_for(all, convert);
-    else convert(all);
+    forEachRange(patches.size(), 1, threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p) convertPatch(mesh, mesh.patches[p], patches[p]);
+    });
     return patches;
 }
 
