@@ -261,3 +261,40 @@ TEST_F(TestPatchSeparation, testEveryMeetingPairFoundOnce)
         EXPECT_EQ(vdbi::separatePatches(copy, movable, settings), sites) << "cell " << cellSize;
     }
 }
+
+// Patch (1, 2) is a square of two triangles whose corners are all curve samples; a small
+// locked triangle of (1, 3) stands through the first one, near the diagonal. Separation has
+// nothing to move. splitMeetingTriangles() splits the diagonal, the only inner edge, at its
+// midpoint (point 7); separateAround() pushes that point away from label 1 (up, along the
+// square's normal) and the tent it raises passes over the small triangle.
+TEST_F(TestPatchSeparation, testSplitFreesLockedTriangles)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(2, 2, 0), Vec3d(0, 2, 0),              // (1, 2)
+        Vec3d(1.1, 0.8, -0.02), Vec3d(1.3, 0.8, -0.02), Vec3d(1.2, 0.85, 0.02)};     // (1, 3)
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}},
+                                                 {1, 3, {Vec3I(4, 5, 6)}}});
+    ASSERT_EQ(intersectingPairs(mesh),
+              (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 2}}));
+    std::vector<std::uint8_t> movable(points.size(), 0);
+    const vdbi::SeparationSettings settings = unitSettings();
+    vdbi::separatePatches(mesh, movable, settings);
+    ASSERT_EQ(intersectingPairs(mesh).size(), 1u);
+
+    vdbi::PointArray start = mesh.points;
+    EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, settings), 1u);
+    ASSERT_EQ(mesh.points.size(), 8u);
+    EXPECT_EQ(mesh.points[7], Vec3d(1, 1, 0));
+    EXPECT_EQ(start[7], Vec3d(1, 1, 0));
+    EXPECT_EQ(movable[7], 1);
+    EXPECT_EQ(mesh.patches[0].triangleCount, 4u);
+    EXPECT_EQ(mesh.patches[1].firstTriangle, 4u);
+    EXPECT_EQ(mesh.triangles[4], Vec3I(4, 5, 6));
+
+    vdbi::separateAround(mesh, movable, start, settings, 7);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    for (std::size_t v = 0; v < 7; ++v) EXPECT_EQ(mesh.points[v], points[v]) << "point " << v;
+    EXPECT_GT(mesh.points[7].z(), 0.0);
+    EXPECT_LE((mesh.points[7] - start[7]).length(), settings.maxMove + 1e-12);
+    for (std::size_t t = 0; t < 4; ++t) EXPECT_GT(normalOf(mesh, t).z(), 0.0) << "triangle " << t;
+}

@@ -277,14 +277,32 @@ private:
     std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>> mCellStarts;
 };
 
+/// Triangles around every point of @a mesh: around[first[v] .. first[v + 1]).
+void
+trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& first,
+                      std::vector<std::uint32_t>& around)
+{
+    first.assign(mesh.points.size() + 1, 0);
+    around.resize(3 * mesh.triangles.size());
+    for (const openvdb::Vec3I& t : mesh.triangles) {
+        for (int i = 0; i < 3; ++i) ++first[t[i] + 1];
+    }
+    for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        for (int i = 0; i < 3; ++i) around[fill[mesh.triangles[f][i]]++] = f;
+    }
+}
+
 /// @brief The state of separatePatches(): the triangles around every point, the candidate
 /// grid, and where every point started.
 class Separation
 {
 public:
     Separation(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
-               const SeparationSettings& settings)
-        : mMesh(mesh), mMovable(movable), mSettings(settings), mOrigin(mesh.points)
+               const SeparationSettings& settings, const PointArray* start)
+        : mMesh(mesh), mMovable(movable), mSettings(settings)
+        , mOrigin(start ? *start : mesh.points)
         , mPatchOf(mesh.triangles.size())
         , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
     {
@@ -292,17 +310,7 @@ public:
             const InterfacePatch& patch = mesh.patches[p];
             std::fill_n(mPatchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
         }
-        const std::size_t pointCount = mesh.points.size();
-        mStart.assign(pointCount + 1, 0);
-        mAround.resize(3 * mesh.triangles.size());
-        for (const openvdb::Vec3I& t : mesh.triangles) {
-            for (int i = 0; i < 3; ++i) ++mStart[t[i] + 1];
-        }
-        for (std::size_t v = 0; v < pointCount; ++v) mStart[v + 1] += mStart[v];
-        std::vector<std::uint32_t> fill(mStart.begin(), mStart.end() - 1);
-        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-            for (int i = 0; i < 3; ++i) mAround[fill[mesh.triangles[f][i]]++] = f;
-        }
+        trianglesAroundPoints(mesh, mStart, mAround);
     }
 
     /// The rounds; returns the meeting pairs found in the last one.
@@ -480,9 +488,183 @@ private:
 
 std::size_t
 separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
-                const SeparationSettings& settings)
+                const SeparationSettings& settings, const PointArray* start)
 {
-    return Separation(mesh, movable, settings).run();
+    return Separation(mesh, movable, settings, start).run();
+}
+
+
+std::size_t
+splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
+                      PointArray& start, const SeparationSettings& settings)
+{
+    const CandidateGrid grid(mesh, settings.cellSize, 0.0, settings.threaded);
+    const Pairs pairs = grid.allMeetingPairs(mesh, settings.threaded);
+    if (pairs.empty()) return 0;
+    std::vector<std::uint32_t> meeting;
+    for (const auto& [f, g] : pairs) {
+        meeting.push_back(f);
+        meeting.push_back(g);
+    }
+    std::sort(meeting.begin(), meeting.end());
+    meeting.erase(std::unique(meeting.begin(), meeting.end()), meeting.end());
+
+    const std::size_t triangleCount = mesh.triangles.size();
+    std::vector<std::uint32_t> patchOf(triangleCount);
+    for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
+        const InterfacePatch& patch = mesh.patches[p];
+        std::fill_n(patchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
+    }
+    std::vector<std::uint32_t> first, around;
+    trianglesAroundPoints(mesh, first, around);
+    // The triangle across edge (u, v) of triangle f if the edge is inner: it is the only
+    // other triangle with that edge, of f's patch, running along it the other way. A feature
+    // curve segment is in several patches and stays as it is.
+    auto across = [&](std::uint32_t f, std::uint32_t u, std::uint32_t v) -> std::int64_t {
+        std::int64_t other = -1;
+        for (std::uint32_t i = first[u]; i < first[u + 1]; ++i) {
+            const std::uint32_t g = around[i];
+            const openvdb::Vec3I& t = mesh.triangles[g];
+            if (g == f || (t[0] != v && t[1] != v && t[2] != v)) continue;
+            if (other >= 0 || patchOf[g] != patchOf[f]) return -1;
+            const bool reversed = (t[0] == v && t[1] == u) || (t[1] == v && t[2] == u)
+                || (t[2] == v && t[0] == u);
+            if (!reversed) return -1;
+            other = g;
+        }
+        return other;
+    };
+
+    // Every meeting triangle not changed yet in this call splits its longest inner edge whose
+    // other triangle is unchanged too, at the midpoint: (a, b, c) and (b, a, d) become
+    // (a, m, c), (m, b, c), (b, m, d), (m, a, d).
+    std::vector<char> changed(triangleCount, 0);
+    std::vector<std::vector<openvdb::Vec3I>> added(mesh.patches.size());
+    std::size_t splits = 0;
+    for (const std::uint32_t f : meeting) {
+        if (changed[f]) continue;
+        const openvdb::Vec3I t = mesh.triangles[f];
+        int best = -1;
+        std::int64_t bestOther = -1;
+        double bestLength = 0.0;
+        for (int i = 0; i < 3; ++i) {
+            const std::uint32_t a = t[i], b = t[(i + 1) % 3];
+            const double length = (mesh.points[a] - mesh.points[b]).lengthSqr();
+            if (length <= bestLength) continue;
+            const std::int64_t g = across(f, a, b);
+            if (g < 0 || changed[g]) continue;
+            best = i;
+            bestOther = g;
+            bestLength = length;
+        }
+        if (best < 0) continue;
+        const std::uint32_t g = std::uint32_t(bestOther);
+        const std::uint32_t a = t[best], b = t[(best + 1) % 3], c = t[(best + 2) % 3];
+        const openvdb::Vec3I& u = mesh.triangles[g];
+        const std::uint32_t d =
+            u[0] != a && u[0] != b ? u[0] : u[1] != a && u[1] != b ? u[1] : u[2];
+        const std::uint32_t m = std::uint32_t(mesh.points.size());
+        mesh.points.push_back((mesh.points[a] + mesh.points[b]) * 0.5);
+        start.push_back((start[a] + start[b]) * 0.5);
+        movable.push_back(1);
+        mesh.triangles[f] = openvdb::Vec3I(a, m, c);
+        mesh.triangles[g] = openvdb::Vec3I(b, m, d);
+        added[patchOf[f]].emplace_back(m, b, c);
+        added[patchOf[f]].emplace_back(m, a, d);
+        changed[f] = changed[g] = 1;
+        ++splits;
+    }
+    // Each patch's new triangles after its others, so the patches stay consecutive.
+    TriangleArray triangles;
+    triangles.reserve(triangleCount + 2 * splits);
+    for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
+        InterfacePatch& patch = mesh.patches[p];
+        const auto begin = mesh.triangles.begin() + patch.firstTriangle;
+        patch.firstTriangle = triangles.size();
+        triangles.insert(triangles.end(), begin, begin + patch.triangleCount);
+        triangles.insert(triangles.end(), added[p].begin(), added[p].end());
+        patch.triangleCount += added[p].size();
+    }
+    mesh.triangles.swap(triangles);
+    return splits;
+}
+
+
+std::size_t
+separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+               const PointArray& start, const SeparationSettings& settings,
+               std::size_t firstPoint)
+{
+    std::vector<std::uint32_t> first, around;
+    trianglesAroundPoints(mesh, first, around);
+    // Free: the points from firstPoint on and the movable corners of their triangles.
+    std::vector<std::uint8_t> free(mesh.points.size(), 0);
+    for (std::size_t v = firstPoint; v < mesh.points.size(); ++v) {
+        free[v] = movable[v];
+        for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
+            const openvdb::Vec3I& t = mesh.triangles[around[i]];
+            for (int k = 0; k < 3; ++k) free[t[k]] = free[t[k]] || movable[t[k]];
+        }
+    }
+    // A free point moves at most 2 maxMove from where it is now, so a triangle its own ones
+    // can meet overlaps their boxes widened by that: such a triangle shares a grid cell with
+    // one of those widened boxes.
+    const double inverse = 1.0 / settings.cellSize, margin = 2.0 * settings.maxMove;
+    auto cellKey = [&](int x, int y, int z) {
+        const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
+        return (std::uint64_t(x) & mask) << 42 | (std::uint64_t(y) & mask) << 21
+            | (std::uint64_t(z) & mask);
+    };
+    auto forEachCell = [&](std::uint32_t f, double widen, const auto& body) {
+        const openvdb::Vec3I& t = mesh.triangles[f];
+        Vec3d lo = mesh.points[t[0]], hi = lo;
+        for (int i = 1; i < 3; ++i) {
+            lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
+            hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
+        }
+        const openvdb::Vec3i a(int(std::floor((lo[0] - widen) * inverse)),
+                               int(std::floor((lo[1] - widen) * inverse)),
+                               int(std::floor((lo[2] - widen) * inverse)));
+        const openvdb::Vec3i b(int(std::floor((hi[0] + widen) * inverse)),
+                               int(std::floor((hi[1] + widen) * inverse)),
+                               int(std::floor((hi[2] + widen) * inverse)));
+        for (int x = a[0]; x <= b[0]; ++x) {
+            for (int y = a[1]; y <= b[1]; ++y) {
+                for (int z = a[2]; z <= b[2]; ++z) body(cellKey(x, y, z));
+            }
+        }
+    };
+    std::vector<std::uint64_t> cells;
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        const openvdb::Vec3I& t = mesh.triangles[f];
+        if (!free[t[0]] && !free[t[1]] && !free[t[2]]) continue;
+        forEachCell(f, margin, [&](std::uint64_t key) { cells.push_back(key); });
+    }
+    if (cells.empty()) return 0;
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+
+    // Those triangles, patch by patch, and all points: separation there moves free points
+    // only, so no triangle left out can come to meet one that moves.
+    InterfaceMesh region;
+    region.points = mesh.points;
+    for (const InterfacePatch& patch : mesh.patches) {
+        InterfacePatch part = patch;
+        part.firstTriangle = region.triangles.size();
+        for (std::size_t f = patch.firstTriangle; f < patch.firstTriangle + patch.triangleCount;
+             ++f) {
+            bool near = false;
+            forEachCell(std::uint32_t(f), 0.0, [&](std::uint64_t key) {
+                near = near || std::binary_search(cells.begin(), cells.end(), key);
+            });
+            if (near) region.triangles.push_back(mesh.triangles[f]);
+        }
+        part.triangleCount = region.triangles.size() - part.firstTriangle;
+        if (part.triangleCount > 0) region.patches.push_back(part);
+    }
+    const std::size_t left = separatePatches(region, free, settings, &start);
+    mesh.points.swap(region.points);
+    return left;
 }
 
 } // namespace vdbi

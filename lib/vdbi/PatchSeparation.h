@@ -53,9 +53,35 @@ struct SeparationSettings
 /// vertices move serially in index order: the result depends on the mesh alone.
 /// @param mesh     [in,out] the remeshed patches
 /// @param movable  one flag per point: nonzero for a free (inner) vertex
+/// @param start    where every point started, for the maxMove bound: the points of @a mesh
+///                 if null
 /// @return the number of meeting pairs left (of those looked at in the last round)
 std::size_t separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
-                            const SeparationSettings& settings);
+                            const SeparationSettings& settings,
+                            const PointArray* start = nullptr);
+
+/// @brief Splits an inner edge of every triangle that still meets another after
+/// separatePatches(), so that a next separation has a free vertex there to move.
+/// @details Some meeting triangles have no free corner (all three on feature curves), or
+/// only free corners whose moves turn whole fans. Each such triangle, in index order, splits
+/// its longest inner edge (one of its patch only, never a feature curve segment, which
+/// other patches share) whose other triangle no split changed yet, at its midpoint: a new
+/// free point, no change of shape. A patch's new triangles follow its others.
+/// @param mesh     [in,out] the patches
+/// @param movable  [in,out] one flag per point; 1 is appended for every new point
+/// @param start    [in,out] where every point started; a new point's is the midpoint of its
+///                 edge's
+/// @return the number of edges split
+std::size_t splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
+                                  PointArray& start, const SeparationSettings& settings);
+
+/// @brief separatePatches() near the points from @a firstPoint on (those splitMeetingTriangles()
+/// made): only they and the movable corners of their triangles move, and only the triangles
+/// that these can come to meet are looked at.
+/// @return the number of meeting pairs left (of those looked at in the last round)
+std::size_t separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                           const PointArray& start, const SeparationSettings& settings,
+                           std::size_t firstPoint);
 
 } // namespace vdbi
 
