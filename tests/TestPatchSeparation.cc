@@ -262,6 +262,37 @@ TEST_F(TestPatchSeparation, testEveryMeetingPairFoundOnce)
     }
 }
 
+// Patch (1, 2) is a flat hexagonal fan around its only free point 0, at the mean of its
+// ring; a locked spike of patch (3, 4), which shares no label with it (no push), pierces the
+// first triangle near point 0 and stands up from 0.22 below it. Neither the mean of the ring nor one step
+// of 0.1 along or against the normal (up or down) frees the spike: one step used to be all
+// separation tried. Three steps down, a shallow cone passes under the spike's lower corner.
+TEST_F(TestPatchSeparation, testSearchAlongNormalFreesDeepCrossing)
+{
+    std::vector<Vec3d> points = {Vec3d(0, 0, 0)};
+    for (int k = 0; k < 6; ++k) {
+        const double angle = k * M_PI / 3.0;
+        points.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+    }
+    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
+                                 Vec3d(0.45, 0.15, 1.0)});
+    std::vector<Vec3I> fan;
+    for (std::uint32_t k = 0; k < 6; ++k) fan.emplace_back(0, 1 + k, 1 + (k + 1) % 6);
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, fan}, {3, 4, {Vec3I(7, 8, 9)}}});
+    ASSERT_EQ(intersectingPairs(mesh),
+              (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 6}}));
+
+    const vdbi::InterfaceMesh before = mesh;
+    std::vector<std::uint8_t> movable(points.size(), 0);
+    movable[0] = 1;
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, unitSettings()), 0u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    EXPECT_NEAR(mesh.points[0].z(), -0.3, 1e-12);
+    EXPECT_NEAR(mesh.points[0].x(), 0.0, 1e-12);
+    EXPECT_NEAR(mesh.points[0].y(), 0.0, 1e-12);
+    expectAllowedMoves(before, mesh, movable, unitSettings().maxMove);
+}
+
 // Patch (1, 2) is a square of two triangles whose corners are all curve samples; a small
 // locked triangle of (1, 3) stands through the first one, near the diagonal. Separation has
 // nothing to move. splitMeetingTriangles() splits the diagonal, the only inner edge, at its

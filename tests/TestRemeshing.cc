@@ -499,12 +499,16 @@ TEST_F(TestRemeshing, testSeparatePatches)
         EXPECT_GT(normal(mesh).dot(normal(before)), 0.0);
     }
 
-    // Patches without a shared label (0, 1) and (2, 3): no side to open, nothing moves.
+    // Patches without a shared label (0, 1) and (2, 3): no side to open, no push. No single
+    // step along or against a normal frees the pair, but three steps up of corner 1, the first
+    // one tried, do.
     mesh = before;
     mesh.patches[1].a = 2;
     mesh.patches[1].b = 3;
-    vdbi::separatePatches(mesh, movable, settings);
-    EXPECT_EQ(mesh.points, before.points);
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings), 0u);
+    EXPECT_FALSE(vdbi_test::trianglesIntersect(mesh.points, mesh.triangles[0], mesh.triangles[1]));
+    EXPECT_NEAR((mesh.points[1] - (before.points[1] + Vec3d(0, 0, 0.3))).length(), 0.0, 1e-12);
+    for (std::size_t v = 2; v < mesh.points.size(); ++v) EXPECT_EQ(mesh.points[v], before.points[v]);
 }
 
 // Many copies of the crossing pair above, more than one parallel task's share: threaded and

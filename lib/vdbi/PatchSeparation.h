@@ -40,9 +40,9 @@ struct SeparationSettings
 /// corner of such a triangle one step along its vertex normal, away from the shared label:
 /// both sides turn back and the wedge opens. A corner takes the first move that leaves fewer
 /// meeting pairs around it: that push, the mean of its neighbours (which opens a folded fan,
-/// as within one patch), half way there; else the push if it adds none; else a step along or
-/// against its normal that removes one. Pairs within one patch and of patches sharing no
-/// label have no push.
+/// as within one patch), half way there; else the push if it adds none; else the nearest
+/// point along or against its normal, whole steps away, that removes one. Pairs within one
+/// patch and of patches sharing no label have no push.
 /// The grid is built once, every triangle's box widened by maxMove; a round tests only the
 /// pairs of triangles whose vertices moved in the round before. A move is not made if it
 /// would turn one of the vertex's triangles over (one facing against the vertex normal may
