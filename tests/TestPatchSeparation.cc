@@ -309,11 +309,13 @@ TEST_F(TestPatchSeparation, testSplitFreesLockedTriangles)
               (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 2}}));
     std::vector<std::uint8_t> movable(points.size(), 0);
     const vdbi::SeparationSettings settings = unitSettings();
-    vdbi::separatePatches(mesh, movable, settings);
+    vdbi::TrianglePairs meeting;
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings, nullptr, &meeting), 1u);
+    ASSERT_EQ(meeting, (vdbi::TrianglePairs{{0, 2}}));
     ASSERT_EQ(intersectingPairs(mesh).size(), 1u);
 
     vdbi::PointArray start = mesh.points;
-    EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, settings), 1u);
+    EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, meeting), 1u);
     ASSERT_EQ(mesh.points.size(), 8u);
     EXPECT_EQ(mesh.points[7], Vec3d(1, 1, 0));
     EXPECT_EQ(start[7], Vec3d(1, 1, 0));
@@ -328,4 +330,28 @@ TEST_F(TestPatchSeparation, testSplitFreesLockedTriangles)
     EXPECT_GT(mesh.points[7].z(), 0.0);
     EXPECT_LE((mesh.points[7] - start[7]).length(), settings.maxMove + 1e-12);
     for (std::size_t t = 0; t < 4; ++t) EXPECT_GT(normalOf(mesh, t).z(), 0.0) << "triangle " << t;
+}
+
+// The square and small triangle above, but with two free corners (1 and 2) in the meeting
+// triangle: separation is left to deal with it, a split there makes short edges and sharp
+// triangles for little gain. Nothing is split, nothing changes.
+TEST_F(TestPatchSeparation, testSplitLeavesTrianglesWithTwoFreeCorners)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(2, 2, 0), Vec3d(0, 2, 0),              // (1, 2)
+        Vec3d(1.1, 0.8, -0.02), Vec3d(1.3, 0.8, -0.02), Vec3d(1.2, 0.85, 0.02)};     // (1, 3)
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}},
+                                                 {1, 3, {Vec3I(4, 5, 6)}}});
+    const vdbi::InterfaceMesh before = mesh;
+    std::vector<std::uint8_t> movable = {0, 1, 1, 0, 0, 0, 0};
+    vdbi::PointArray start = mesh.points;
+    EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, {{0, 2}}), 0u);
+    EXPECT_EQ(mesh.points, before.points);
+    EXPECT_EQ(mesh.triangles, before.triangles);
+    EXPECT_EQ(movable.size(), points.size());
+
+    // With one free corner (1) it is split as before.
+    movable[2] = 0;
+    EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, {{0, 2}}), 1u);
+    EXPECT_EQ(mesh.points.size(), points.size() + 1);
 }

@@ -75,8 +75,7 @@ forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& bo
     else run(all);
 }
 
-/// Pairs of triangle indices.
-using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+using Pairs = TrianglePairs;
 
 /// @brief Triangles bucketed by the grid cells their bounding boxes overlap, built once.
 /// @details No vertex moves farther than a margin from where it was when the grid was built,
@@ -302,7 +301,8 @@ public:
     Separation(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                const SeparationSettings& settings, const PointArray* start)
         : mMesh(mesh), mMovable(movable), mSettings(settings)
-        , mOrigin(start ? *start : mesh.points)
+        , mOwnOrigin(start ? PointArray() : mesh.points)
+        , mOrigin(start ? *start : mOwnOrigin)
         , mPatchOf(mesh.triangles.size())
         , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
     {
@@ -313,21 +313,20 @@ public:
         trianglesAroundPoints(mesh, mStart, mAround);
     }
 
-    /// The rounds; returns the meeting pairs found in the last one.
-    std::size_t run()
+    /// The rounds; returns every pair of triangles meeting after them, ascending.
+    Pairs run()
     {
         const std::size_t pointCount = mMesh.points.size();
         std::vector<char> active(mMesh.triangles.size(), 0), listed(pointCount, 0);
         std::vector<int> push(pointCount, 0);
         std::vector<std::uint32_t> corners;
-        std::size_t crossing = 0;
-        for (int round = 0; round < mSettings.rounds; ++round) {
-            const Pairs pairs = round == 0 ? mGrid.allMeetingPairs(mMesh, mSettings.threaded)
-                                           : mGrid.meetingPairs(mMesh, active, mSettings.threaded);
-            crossing = pairs.size();
-            if (crossing == 0) break;
+        Pairs meeting = mGrid.allMeetingPairs(mMesh, mSettings.threaded);
+        std::sort(meeting.begin(), meeting.end());
+        // The pairs of this round's search: all at first, then those of triangles that moved.
+        Pairs found = meeting;
+        for (int round = 0; round < mSettings.rounds && !found.empty(); ++round) {
             corners.clear();
-            for (const auto& [f, g] : pairs) {
+            for (const auto& [f, g] : found) {
                 for (const std::uint32_t h : {f, g}) {
                     const int away = awayFromSharedLabel(h, h == f ? g : f);
                     for (int i = 0; i < 3; ++i) {
@@ -351,8 +350,15 @@ public:
                 moved = true;
             }
             if (!moved) break;
+            // Pairs without a triangle that moved meet as they did.
+            found = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
+            meeting.erase(std::remove_if(meeting.begin(), meeting.end(), [&](const auto& pair) {
+                return active[pair.first] || active[pair.second];
+            }), meeting.end());
+            meeting.insert(meeting.end(), found.begin(), found.end());
+            std::sort(meeting.begin(), meeting.end());
         }
-        return crossing;
+        return meeting;
     }
 
 private:
@@ -492,7 +498,9 @@ private:
     InterfaceMesh& mMesh;
     const std::vector<std::uint8_t>& mMovable;
     const SeparationSettings& mSettings;
-    const PointArray mOrigin;
+    /// Where every point started: the caller's, or a copy of the points.
+    const PointArray mOwnOrigin;
+    const PointArray& mOrigin;
     std::vector<std::uint32_t> mPatchOf;
     const CandidateGrid mGrid;
     /// Triangles around every point: mAround[mStart[v] .. mStart[v + 1]).
@@ -505,45 +513,64 @@ private:
 
 std::size_t
 separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
-                const SeparationSettings& settings, const PointArray* start)
+                const SeparationSettings& settings, const PointArray* start,
+                TrianglePairs* meeting)
 {
-    return Separation(mesh, movable, settings, start).run();
+    Pairs left = Separation(mesh, movable, settings, start).run();
+    const std::size_t count = left.size();
+    if (meeting) meeting->swap(left);
+    return count;
 }
 
 
 std::size_t
 splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
-                      PointArray& start, const SeparationSettings& settings)
+                      PointArray& start, const TrianglePairs& pairs)
 {
-    const CandidateGrid grid(mesh, settings.cellSize, 0.0, settings.threaded);
-    const Pairs pairs = grid.allMeetingPairs(mesh, settings.threaded);
-    if (pairs.empty()) return 0;
+    // The meeting triangles with at most one free corner.
     std::vector<std::uint32_t> meeting;
     for (const auto& [f, g] : pairs) {
-        meeting.push_back(f);
-        meeting.push_back(g);
+        for (const std::uint32_t h : {f, g}) {
+            const openvdb::Vec3I& t = mesh.triangles[h];
+            if (int(movable[t[0]]) + movable[t[1]] + movable[t[2]] <= 1) meeting.push_back(h);
+        }
     }
+    if (meeting.empty()) return 0;
     std::sort(meeting.begin(), meeting.end());
     meeting.erase(std::unique(meeting.begin(), meeting.end()), meeting.end());
 
     const std::size_t triangleCount = mesh.triangles.size();
-    std::vector<std::uint32_t> patchOf(triangleCount);
-    for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
-        const InterfacePatch& patch = mesh.patches[p];
-        std::fill_n(patchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
+    auto patchOf = [&](std::uint32_t f) {
+        return std::upper_bound(mesh.patches.begin(), mesh.patches.end(), std::size_t(f),
+                                [](std::size_t g, const InterfacePatch& patch) {
+                                    return g < patch.firstTriangle;
+                                }) - mesh.patches.begin() - 1;
+    };
+    // The triangles around the corners of those, as (corner, triangle), ascending: one pass
+    // over the triangles instead of the triangles around every point.
+    std::vector<char> corner(mesh.points.size(), 0);
+    for (const std::uint32_t f : meeting) {
+        for (int i = 0; i < 3; ++i) corner[mesh.triangles[f][i]] = 1;
     }
-    std::vector<std::uint32_t> first, around;
-    trianglesAroundPoints(mesh, first, around);
+    Pairs around;
+    for (std::uint32_t f = 0; f < triangleCount; ++f) {
+        const openvdb::Vec3I& t = mesh.triangles[f];
+        for (int i = 0; i < 3; ++i) {
+            if (corner[t[i]]) around.emplace_back(t[i], f);
+        }
+    }
+    std::sort(around.begin(), around.end());
     // The triangle across edge (u, v) of triangle f if the edge is inner: it is the only
     // other triangle with that edge, of f's patch, running along it the other way. A feature
     // curve segment is in several patches and stays as it is.
     auto across = [&](std::uint32_t f, std::uint32_t u, std::uint32_t v) -> std::int64_t {
         std::int64_t other = -1;
-        for (std::uint32_t i = first[u]; i < first[u + 1]; ++i) {
-            const std::uint32_t g = around[i];
+        for (auto i = std::lower_bound(around.begin(), around.end(), std::make_pair(u, 0u));
+             i != around.end() && i->first == u; ++i) {
+            const std::uint32_t g = i->second;
             const openvdb::Vec3I& t = mesh.triangles[g];
             if (g == f || (t[0] != v && t[1] != v && t[2] != v)) continue;
-            if (other >= 0 || patchOf[g] != patchOf[f]) return -1;
+            if (other >= 0 || patchOf(g) != patchOf(f)) return -1;
             const bool reversed = (t[0] == v && t[1] == u) || (t[1] == v && t[2] == u)
                 || (t[2] == v && t[0] == u);
             if (!reversed) return -1;
@@ -556,6 +583,8 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
     // other triangle is unchanged too, at the midpoint: (a, b, c) and (b, a, d) become
     // (a, m, c), (m, b, c), (b, m, d), (m, a, d).
     std::vector<char> changed(triangleCount, 0);
+    mesh.points.reserve(mesh.points.size() + meeting.size());
+    start.reserve(start.size() + meeting.size());
     std::vector<std::vector<openvdb::Vec3I>> added(mesh.patches.size());
     std::size_t splits = 0;
     for (const std::uint32_t f : meeting) {
@@ -586,8 +615,8 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
         movable.push_back(1);
         mesh.triangles[f] = openvdb::Vec3I(a, m, c);
         mesh.triangles[g] = openvdb::Vec3I(b, m, d);
-        added[patchOf[f]].emplace_back(m, b, c);
-        added[patchOf[f]].emplace_back(m, a, d);
+        added[patchOf(f)].emplace_back(m, b, c);
+        added[patchOf(f)].emplace_back(m, a, d);
         changed[f] = changed[g] = 1;
         ++splits;
     }
@@ -612,16 +641,11 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                const PointArray& start, const SeparationSettings& settings,
                std::size_t firstPoint)
 {
-    std::vector<std::uint32_t> first, around;
-    trianglesAroundPoints(mesh, first, around);
     // Free: the points from firstPoint on and the movable corners of their triangles.
     std::vector<std::uint8_t> free(mesh.points.size(), 0);
-    for (std::size_t v = firstPoint; v < mesh.points.size(); ++v) {
-        free[v] = movable[v];
-        for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
-            const openvdb::Vec3I& t = mesh.triangles[around[i]];
-            for (int k = 0; k < 3; ++k) free[t[k]] = free[t[k]] || movable[t[k]];
-        }
+    for (const openvdb::Vec3I& t : mesh.triangles) {
+        if (t[0] < firstPoint && t[1] < firstPoint && t[2] < firstPoint) continue;
+        for (int k = 0; k < 3; ++k) free[t[k]] = movable[t[k]];
     }
     // A free point moves at most 2 maxMove from where it is now, so a triangle its own ones
     // can meet overlaps their boxes widened by that: such a triangle shares a grid cell with
@@ -660,11 +684,18 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     if (cells.empty()) return 0;
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    // One bit per hashed cell key, set for those cells: most triangles are far from all of
+    // them and take a bit test per cell instead of a binary search.
+    constexpr int HASH_BITS = 22;
+    std::vector<std::uint64_t> hashed(std::size_t(1) << (HASH_BITS - 6), 0);
+    auto hashOf = [](std::uint64_t key) {
+        return (key * 0x9E3779B97F4A7C15ull) >> (64 - HASH_BITS);
+    };
+    for (const std::uint64_t key : cells) hashed[hashOf(key) >> 6] |= std::uint64_t(1) << (hashOf(key) & 63);
 
     // Those triangles, patch by patch, and all points: separation there moves free points
     // only, so no triangle left out can come to meet one that moves.
     InterfaceMesh region;
-    region.points = mesh.points;
     for (const InterfacePatch& patch : mesh.patches) {
         InterfacePatch part = patch;
         part.firstTriangle = region.triangles.size();
@@ -672,13 +703,16 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
              ++f) {
             bool near = false;
             forEachCell(std::uint32_t(f), 0.0, [&](std::uint64_t key) {
-                near = near || std::binary_search(cells.begin(), cells.end(), key);
+                const std::uint64_t h = hashOf(key);
+                near = near || ((hashed[h >> 6] >> (h & 63) & 1)
+                                && std::binary_search(cells.begin(), cells.end(), key));
             });
             if (near) region.triangles.push_back(mesh.triangles[f]);
         }
         part.triangleCount = region.triangles.size() - part.firstTriangle;
         if (part.triangleCount > 0) region.patches.push_back(part);
     }
+    region.points.swap(mesh.points);
     const std::size_t left = separatePatches(region, free, settings, &start);
     mesh.points.swap(region.points);
     return left;

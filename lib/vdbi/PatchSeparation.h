@@ -12,9 +12,13 @@
 #include <openvdb/Types.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace vdbi {
+
+/// Pairs (first < second) of triangle indices.
+using TrianglePairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
 /// Settings of separatePatches().
 struct SeparationSettings
@@ -55,25 +59,34 @@ struct SeparationSettings
 /// @param movable  one flag per point: nonzero for a free (inner) vertex
 /// @param start    where every point started, for the maxMove bound: the points of @a mesh
 ///                 if null
-/// @return the number of meeting pairs left (of those looked at in the last round)
+/// @param meeting  if given, set to the pairs left, ascending: those the first round found
+///                 and no vertex of which moved since, and those found since
+/// @return the number of meeting pairs left
 std::size_t separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                             const SeparationSettings& settings,
-                            const PointArray* start = nullptr);
+                            const PointArray* start = nullptr,
+                            TrianglePairs* meeting = nullptr);
 
-/// @brief Splits an inner edge of every triangle that still meets another after
-/// separatePatches(), so that a next separation has a free vertex there to move.
+/// @brief Splits an inner edge of every triangle with at most one free corner that still
+/// meets another after separatePatches(), so that a next separation has a free vertex there
+/// to move.
 /// @details Some meeting triangles have no free corner (all three on feature curves), or
-/// only free corners whose moves turn whole fans. Each such triangle, in index order, splits
-/// its longest inner edge (one of its patch only, never a feature curve segment, which
-/// other patches share) whose other triangle no split changed yet, at its midpoint: a new
-/// free point, no change of shape. A patch's new triangles follow its others.
+/// one whose moves turn a whole fan. Each such triangle, in index order, splits its longest
+/// inner edge (one of its patch only, never a feature curve segment, which other patches
+/// share) whose other triangle no split changed yet, at its midpoint: a new free point, no
+/// change of shape. A patch's new triangles follow its others. Triangles with two or three
+/// free corners are left to separation: splitting them too makes more short edges and sharp
+/// triangles and leaves more meeting pairs, not fewer (frog at 2 voxels: 230 pairs instead of
+/// 206, edges in range 97.47 instead of 97.48 %, 1st-percentile smallest angle 18.96 instead
+/// of 18.99 degrees; 292 pairs, 97.52 % and 19.08 degrees without splits).
 /// @param mesh     [in,out] the patches
 /// @param movable  [in,out] one flag per point; 1 is appended for every new point
 /// @param start    [in,out] where every point started; a new point's is the midpoint of its
 ///                 edge's
+/// @param pairs    the meeting pairs separatePatches() left
 /// @return the number of edges split
 std::size_t splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
-                                  PointArray& start, const SeparationSettings& settings);
+                                  PointArray& start, const TrianglePairs& pairs);
 
 /// @brief separatePatches() near the points from @a firstPoint on (those splitMeetingTriangles()
 /// made): only they and the movable corners of their triangles move, and only the triangles
