@@ -2,10 +2,9 @@
 
 #include <vdbi/PatchSeparation.h>
 
+#include <vdbi/ParallelRanges.h>
 #include <vdbi/TriangleCrossing.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -64,15 +63,11 @@ template<typename Body>
 void
 forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& body)
 {
-    const std::size_t chunks = (count + chunk - 1) / chunk;
-    auto run = [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t c = r.begin(); c < r.end(); ++c) {
+    forEachRange((count + chunk - 1) / chunk, 1, threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t c = begin; c < end; ++c) {
             body(c, c * chunk, std::min(count, (c + 1) * chunk));
         }
-    };
-    const tbb::blocked_range<std::size_t> all(0, chunks, 1);
-    if (threaded) tbb::parallel_for(all, run);
-    else run(all);
+    });
 }
 
 using Pairs = TrianglePairs;
