@@ -436,10 +436,13 @@ TEST_F(TestRemeshing, testSampleVolumes)
 }
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
-// voxel both ways and no intersecting triangles. Fails today (open): intersecting pairs on
-// every volume (frog at 2 voxels: 404, 93 within one patch; chr_knight at 1 voxel: 11 before
-// the last change of the separation, not measured since), and raw faces up to 1.6 voxels from
-// the remeshed surface at 4 voxels (frog; within one voxel at 1 and 2). Takes minutes.
+// voxel both ways and no intersecting triangles. Fails today (open): intersecting pairs (the
+// checker stops at 100) on frog at 2 voxels (206 by bench_remesh --check, 76 within one
+// patch), chr_knight at 2 and 4 voxels (10, 60), monu1 at 4 (17), monu16 at 1, 2 and 4 (23,
+// 11, 100+), menger at 2 and 4 (91, 100+); none on chr_knight, monu1 and menger at 1 voxel,
+// nor monu1 at 2. Closeness fails at 4 voxels (raw faces up to 1.5 voxels from the
+// remeshed surface on monu16, remeshed vertices up to 1.9 from the raw one on monu16 and
+// menger); within one voxel at 1 and 2. Takes about 9 minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {
