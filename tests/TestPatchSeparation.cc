@@ -90,6 +90,17 @@ unitSettings()
     return settings;
 }
 
+/// Patch (1, 2): a square of two triangles (0, 1, 2) and (0, 2, 3) in the plane z = 0;
+/// patch (1, 3): a small triangle (4, 5, 6) standing through the first one, near the diagonal.
+vdbi::InterfaceMesh
+squareThroughSmallTriangle()
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(2, 2, 0), Vec3d(0, 2, 0),              // (1, 2)
+        Vec3d(1.1, 0.8, -0.02), Vec3d(1.3, 0.8, -0.02), Vec3d(1.2, 0.85, 0.02)};     // (1, 3)
+    return makeMesh(points, {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}}, {1, 3, {Vec3I(4, 5, 6)}}});
+}
+
 } // namespace
 
 // Patches (0, 1) and (1, 2) share the curve edge 0-1; their triangles on it lie in one plane
@@ -300,11 +311,8 @@ TEST_F(TestPatchSeparation, testSearchAlongNormalFreesDeepCrossing)
 // square's normal) and the tent it raises passes over the small triangle.
 TEST_F(TestPatchSeparation, testSplitFreesLockedTriangles)
 {
-    const std::vector<Vec3d> points = {
-        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(2, 2, 0), Vec3d(0, 2, 0),              // (1, 2)
-        Vec3d(1.1, 0.8, -0.02), Vec3d(1.3, 0.8, -0.02), Vec3d(1.2, 0.85, 0.02)};     // (1, 3)
-    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}},
-                                                 {1, 3, {Vec3I(4, 5, 6)}}});
+    vdbi::InterfaceMesh mesh = squareThroughSmallTriangle();
+    const vdbi::PointArray points = mesh.points;
     ASSERT_EQ(intersectingPairs(mesh),
               (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 2}}));
     std::vector<std::uint8_t> movable(points.size(), 0);
@@ -337,11 +345,8 @@ TEST_F(TestPatchSeparation, testSplitFreesLockedTriangles)
 // triangles for little gain. Nothing is split, nothing changes.
 TEST_F(TestPatchSeparation, testSplitLeavesTrianglesWithTwoFreeCorners)
 {
-    const std::vector<Vec3d> points = {
-        Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(2, 2, 0), Vec3d(0, 2, 0),              // (1, 2)
-        Vec3d(1.1, 0.8, -0.02), Vec3d(1.3, 0.8, -0.02), Vec3d(1.2, 0.85, 0.02)};     // (1, 3)
-    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}},
-                                                 {1, 3, {Vec3I(4, 5, 6)}}});
+    vdbi::InterfaceMesh mesh = squareThroughSmallTriangle();
+    const vdbi::PointArray points = mesh.points;
     const vdbi::InterfaceMesh before = mesh;
     std::vector<std::uint8_t> movable = {0, 1, 1, 0, 0, 0, 0};
     vdbi::PointArray start = mesh.points;

@@ -59,6 +59,30 @@ makeFan(int count, int turns, double lift = 0.0, bool closed = true)
     return fan;
 }
 
+/// Two triangles on random corners: s = (0, 1, 2) and t sharing @a shared of its corners,
+/// all in the plane z = 0 if @a flat (exactly coplanar, as on a flat stretch of the reference
+/// surface). @a draw() gives one coordinate.
+struct RandomPair
+{
+    vdbi::PointArray points;
+    openvdb::Vec3I s{0, 1, 2}, t{3, 4, 5};
+};
+
+template<typename Draw>
+RandomPair
+randomPair(int shared, bool flat, Draw&& draw)
+{
+    RandomPair pair;
+    pair.points.resize(6);
+    for (auto& p : pair.points) {
+        const double x = draw(), y = draw();
+        p = openvdb::Vec3d(x, y, flat ? 0.0 : draw());
+    }
+    if (shared >= 1) pair.t = openvdb::Vec3I(0, 4, 5);
+    if (shared == 2) pair.t = openvdb::Vec3I(1, 0, 5);
+    return pair;
+}
+
 } // namespace
 
 
@@ -92,24 +116,15 @@ TEST_F(TestTriangleCrossing, testHandMadePairs)
 
 TEST_F(TestTriangleCrossing, testAgreesWithIndependentCheck)
 {
-    // Random pairs sharing 0, 1 or 2 corners, half of them with all points in the plane z = 0
-    // (exactly coplanar, as on a flat stretch of the reference surface): the
-    // answer equals the test support's, but for folds by more than 175 degrees that the
+    // Random pairs sharing 0, 1 or 2 corners, half of them in one plane: the answer equals the test support's, but for folds by more than 175 degrees that the
     // support calls apart because they are not exactly flat.
     std::mt19937 rng(20261202);
     std::uniform_real_distribution<double> coordinate(-3.0, 3.0);
     std::size_t crossing = 0, apart = 0, tolerated = 0;
     for (int trial = 0; trial < 60000; ++trial) {
         const bool flat = trial % 2 == 0;
-        vdbi::PointArray points(6);
-        for (auto& p : points) {
-            p = openvdb::Vec3d(coordinate(rng), coordinate(rng), flat ? 0.0 : coordinate(rng));
-        }
         const int shared = trial / 2 % 3;
-        const openvdb::Vec3I s(0, 1, 2);
-        openvdb::Vec3I t(3, 4, 5);
-        if (shared >= 1) t = openvdb::Vec3I(0, 4, 5);
-        if (shared == 2) t = openvdb::Vec3I(1, 0, 5);
+        const auto [points, s, t] = randomPair(shared, flat, [&] { return coordinate(rng); });
         const CornerTriangle cs = corner(points, s), ct = corner(points, t);
         if (cs.normal.sqrnorm() == 0.0 || ct.normal.sqrnorm() == 0.0) continue;   // degenerate
         const bool expected = vdbi_test::trianglesIntersect(points, s, t);
@@ -138,15 +153,9 @@ TEST_F(TestTriangleCrossing, testTouchAgreesWithIndependentCheck)
     std::size_t touching = 0, crossing = 0, apart = 0, tolerated = 0;
     for (int trial = 0; trial < 60000; ++trial) {
         const bool flat = trial % 2 == 0;
-        vdbi::PointArray points(6);
-        for (auto& p : points) {
-            p = openvdb::Vec3d(coordinate(rng), coordinate(rng), flat ? 0 : coordinate(rng));
-        }
         const int shared = trial / 2 % 3;
-        const openvdb::Vec3I s(0, 1, 2);
-        openvdb::Vec3I t(3, 4, 5);
-        if (shared >= 1) t = openvdb::Vec3I(0, 4, 5);
-        if (shared == 2) t = openvdb::Vec3I(1, 0, 5);
+        const auto [points, s, t] =
+            randomPair(shared, flat, [&] { return double(coordinate(rng)); });
         const CornerTriangle cs = corner(points, s), ct = corner(points, t);
         if (cs.normal.sqrnorm() == 0.0 || ct.normal.sqrnorm() == 0.0) continue;   // degenerate
         const bool expected = vdbi_test::trianglesIntersect(points, s, t);

@@ -46,11 +46,12 @@ oneSide(const double (&h)[3])
     return (h[0] > 0.0 && h[1] > 0.0 && h[2] > 0.0) || (h[0] < 0.0 && h[1] < 0.0 && h[2] < 0.0);
 }
 
-/// Are all three on one side of zero or on it (not all on it)?
+/// Are all three on one side of zero, zero included?
 inline bool
 closedOneSide(const double (&h)[3])
 {
-    return (h[0] >= 0.0 && h[1] >= 0.0 && h[2] >= 0.0) || (h[0] <= 0.0 && h[1] <= 0.0 && h[2] <= 0.0);
+    return (h[0] >= 0.0 && h[1] >= 0.0 && h[2] >= 0.0)
+        || (h[0] <= 0.0 && h[1] <= 0.0 && h[2] <= 0.0);
 }
 
 /// Does segment pq, whose ends lie @a dp and @a dq above the plane of @a t (in units of its
@@ -76,12 +77,6 @@ segmentMeetsTriangle(const Point& p, const Point& q, double dp, double dq,
     const double o[3] = {orient(p, q, t.p[0], t.p[1]), orient(p, q, t.p[1], t.p[2]),
                          orient(p, q, t.p[2], t.p[0])};
     return closedOneSide(o);
-}
-
-inline bool
-segmentCrossesTriangle(const Point& p, const Point& q, const CornerTriangle& t)
-{
-    return segmentCrossesTriangle(p, q, t.normal | (p - t.p[0]), t.normal | (q - t.p[0]), t);
 }
 
 /// > 0 when x is to the left of a -> b seen from the tip of @a n (in a plane normal to n).
@@ -211,10 +206,19 @@ boxesOverlap(const CornerTriangle& s, const CornerTriangle& t)
     return true;
 }
 
-/// trianglesCross() for boxes that overlap.
+/// @brief trianglesCross() (@a Touching false) or trianglesTouch() (true) for boxes that
+/// overlap; for trianglesTouch(), @a s has an area.
+template<bool Touching>
 bool
-crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
+meetWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
 {
+    // Does segment pq, its ends dp and dq above the plane of @a x, pass through x (or touch
+    // it)?
+    auto passes = [](const Point& p, const Point& q, double dp, double dq,
+                     const CornerTriangle& x) {
+        return Touching ? segmentMeetsTriangle(p, q, dp, dq, x)
+                        : segmentCrossesTriangle(p, q, dp, dq, x);
+    };
     int shared = 0, si = -1, ti = -1;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
@@ -235,64 +239,33 @@ crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
         const Point &e = t.p[NEXT_CORNER[ti]], &f = t.p[PREVIOUS_CORNER[ti]];
         const double de = s.normal | (e - s.p[0]), df = s.normal | (f - s.p[0]);
         if (de == 0.0 && df == 0.0) return anglesOverlap(s, si, t, ti);
-        // Only the edges opposite the shared corner can meet the other triangle elsewhere.
-        return segmentCrossesTriangle(e, f, de, df, s) || segmentCrossesTriangle(b, c, t);
+        // Both are convex and hold the shared corner: only the edges opposite it can meet the
+        // other triangle elsewhere.
+        return passes(e, f, de, df, s)
+            || passes(b, c, t.normal | (b - t.p[0]), t.normal | (c - t.p[0]), t);
     }
     double o[3], r[3];   // heights of t's corners over s, and of s's over t
     for (int i = 0; i < 3; ++i) o[i] = s.normal | (t.p[i] - s.p[0]);
     if (oneSide(o)) return false;
-    if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) return trianglesOverlapInPlane(s, t);
+    if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) {
+        return Touching ? trianglesMeetInPlane(s, t) : trianglesOverlapInPlane(s, t);
+    }
     for (int i = 0; i < 3; ++i) r[i] = t.normal | (s.p[i] - t.p[0]);
     if (oneSide(r)) return false;
     for (int i = 0; i < 3; ++i) {
-        const int j = (i + 1) % 3;
-        if (segmentCrossesTriangle(s.p[i], s.p[j], r[i], r[j], t)
-            || segmentCrossesTriangle(t.p[i], t.p[j], o[i], o[j], s)) {
+        const int j = NEXT_CORNER[i];
+        if (passes(s.p[i], s.p[j], r[i], r[j], t) || passes(t.p[i], t.p[j], o[i], o[j], s)) {
             return true;
         }
     }
     return false;
 }
 
-/// trianglesTouch() for boxes that overlap; @a s has an area.
-bool
-touchesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
+/// trianglesCross() for boxes that overlap.
+inline bool
+crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
 {
-    int shared = 0, si = -1, ti = -1;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            if (s.id[i] == t.id[j]) {
-                ++shared;
-                si = i;
-                ti = j;
-            }
-        }
-    }
-    if (shared >= 2) return crossesWithinBoxes(s, t);
-    if (shared == 1) {
-        const Point &b = s.p[NEXT_CORNER[si]], &c = s.p[PREVIOUS_CORNER[si]];
-        const Point &e = t.p[NEXT_CORNER[ti]], &f = t.p[PREVIOUS_CORNER[ti]];
-        const double de = s.normal | (e - s.p[0]), df = s.normal | (f - s.p[0]);
-        if (de == 0.0 && df == 0.0) return anglesOverlap(s, si, t, ti);
-        // Both contain the shared corner and are convex: they have another common point
-        // exactly when an edge opposite it meets the other triangle.
-        const double db = t.normal | (b - t.p[0]), dc = t.normal | (c - t.p[0]);
-        return segmentMeetsTriangle(e, f, de, df, s) || segmentMeetsTriangle(b, c, db, dc, t);
-    }
-    double o[3], r[3];
-    for (int i = 0; i < 3; ++i) o[i] = s.normal | (t.p[i] - s.p[0]);
-    if (oneSide(o)) return false;
-    if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) return trianglesMeetInPlane(s, t);
-    for (int i = 0; i < 3; ++i) r[i] = t.normal | (s.p[i] - t.p[0]);
-    if (oneSide(r)) return false;
-    for (int i = 0; i < 3; ++i) {
-        const int j = NEXT_CORNER[i];
-        if (segmentMeetsTriangle(s.p[i], s.p[j], r[i], r[j], t)
-            || segmentMeetsTriangle(t.p[i], t.p[j], o[i], o[j], s)) {
-            return true;
-        }
-    }
-    return false;
+    return meetWithinBoxes<false>(s, t);
 }
 
 } // namespace
@@ -307,8 +280,8 @@ bool
 trianglesTouch(const CornerTriangle& s, const CornerTriangle& t)
 {
     if (!boxesOverlap(s, t)) return false;
-    if (s.normal.sqrnorm() > 0.0) return touchesWithinBoxes(s, t);
-    if (t.normal.sqrnorm() > 0.0) return touchesWithinBoxes(t, s);
+    if (s.normal.sqrnorm() > 0.0) return meetWithinBoxes<true>(s, t);
+    if (t.normal.sqrnorm() > 0.0) return meetWithinBoxes<true>(t, s);
     return crossesWithinBoxes(s, t);
 }
 
