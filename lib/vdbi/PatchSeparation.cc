@@ -72,6 +72,40 @@ forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& bo
 
 using Pairs = TrianglePairs;
 
+/// The cell of @a p in a grid of cubes 1 / @a inverse wide.
+openvdb::Vec3i
+cellOf(const Vec3d& p, double inverse)
+{
+    return openvdb::Vec3i(int(std::floor(p[0] * inverse)), int(std::floor(p[1] * inverse)),
+                          int(std::floor(p[2] * inverse)));
+}
+
+/// A cell as one key, 21 bits per axis: far apart cells may share a key, which only makes
+/// more candidates to test.
+std::uint64_t
+cellKey(const openvdb::Vec3i& c)
+{
+    const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
+    return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
+        | (std::uint64_t(c[2]) & mask);
+}
+
+/// The cells [@a low, @a high] (of cubes 1 / @a inverse wide) that the bounding box of
+/// triangle @a f, widened by @a margin, overlaps.
+void
+triangleCells(const InterfaceMesh& mesh, std::size_t f, double margin, double inverse,
+              openvdb::Vec3i& low, openvdb::Vec3i& high)
+{
+    const openvdb::Vec3I& t = mesh.triangles[f];
+    Vec3d lo = mesh.points[t[0]], hi = lo;
+    for (int i = 1; i < 3; ++i) {
+        lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
+        hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
+    }
+    low = cellOf(lo - Vec3d(margin), inverse);
+    high = cellOf(hi + Vec3d(margin), inverse);
+}
+
 /// @brief Triangles bucketed by the grid cells their bounding boxes overlap, built once.
 /// @details No vertex moves farther than a margin from where it was when the grid was built,
 /// so every box is widened by that margin: two triangles that can ever meet share a cell.
@@ -94,14 +128,7 @@ public:
         std::vector<std::uint64_t> first(count + 1, 0);
         forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t f = begin; f < end; ++f) {
-                const openvdb::Vec3I& t = mesh.triangles[f];
-                Vec3d lo = mesh.points[t[0]], hi = lo;
-                for (int i = 1; i < 3; ++i) {
-                    lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
-                    hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
-                }
-                mLow[f] = cell(lo - Vec3d(margin));
-                mHigh[f] = cell(hi + Vec3d(margin));
+                triangleCells(mesh, f, margin, mInverse, mLow[f], mHigh[f]);
                 const openvdb::Vec3i size = mHigh[f] - mLow[f] + openvdb::Vec3i(1);
                 first[f + 1] = std::uint64_t(size[0]) * size[1] * size[2];
             }
@@ -116,7 +143,7 @@ public:
             for (std::size_t f = begin; f < end; ++f) {
                 std::uint64_t j = first[f];
                 forEachCell(std::uint32_t(f), [&](const openvdb::Vec3i& c, std::uint8_t starts) {
-                    entries[j++] = {key(c), std::uint32_t(f), starts};
+                    entries[j++] = {cellKey(c), std::uint32_t(f), starts};
                 });
             }
         });
@@ -145,8 +172,9 @@ public:
     void forEachNeighbour(std::uint32_t f, const Body& body) const
     {
         forEachCell(f, [&](const openvdb::Vec3i& c, std::uint8_t starts) {
-            const std::size_t cellIndex =
-                std::lower_bound(mCellKeys.begin(), mCellKeys.end(), key(c)) - mCellKeys.begin();
+            const std::size_t cellIndex = std::size_t(
+                std::lower_bound(mCellKeys.begin(), mCellKeys.end(), cellKey(c))
+                - mCellKeys.begin());
             for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
                 const std::uint32_t g = mCellTriangles[j];
                 if (g != f && isLowestSharedCell(starts, mCellStarts[j])) body(g);
@@ -234,17 +262,6 @@ private:
         return all;
     }
 
-    openvdb::Vec3i cell(const Vec3d& p) const
-    {
-        return openvdb::Vec3i(int(std::floor(p[0] * mInverse)), int(std::floor(p[1] * mInverse)),
-                              int(std::floor(p[2] * mInverse)));
-    }
-    static std::uint64_t key(const openvdb::Vec3i& c)
-    {
-        const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
-        return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
-            | (std::uint64_t(c[2]) & mask);
-    }
     /// Calls @a body(c, starts) for every cell c of the box of triangle @a f, with the axes
     /// along which the box starts there.
     template<typename Body>
@@ -646,27 +663,12 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     // can meet overlaps their boxes widened by that: such a triangle shares a grid cell with
     // one of those widened boxes.
     const double inverse = 1.0 / settings.cellSize, margin = 2.0 * settings.maxMove;
-    auto cellKey = [&](int x, int y, int z) {
-        const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
-        return (std::uint64_t(x) & mask) << 42 | (std::uint64_t(y) & mask) << 21
-            | (std::uint64_t(z) & mask);
-    };
-    auto forEachCell = [&](std::uint32_t f, double widen, const auto& body) {
-        const openvdb::Vec3I& t = mesh.triangles[f];
-        Vec3d lo = mesh.points[t[0]], hi = lo;
-        for (int i = 1; i < 3; ++i) {
-            lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
-            hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
-        }
-        const openvdb::Vec3i a(int(std::floor((lo[0] - widen) * inverse)),
-                               int(std::floor((lo[1] - widen) * inverse)),
-                               int(std::floor((lo[2] - widen) * inverse)));
-        const openvdb::Vec3i b(int(std::floor((hi[0] + widen) * inverse)),
-                               int(std::floor((hi[1] + widen) * inverse)),
-                               int(std::floor((hi[2] + widen) * inverse)));
+    auto forEachCell = [&](std::size_t f, double widen, const auto& body) {
+        openvdb::Vec3i a, b;
+        triangleCells(mesh, f, widen, inverse, a, b);
         for (int x = a[0]; x <= b[0]; ++x) {
             for (int y = a[1]; y <= b[1]; ++y) {
-                for (int z = a[2]; z <= b[2]; ++z) body(cellKey(x, y, z));
+                for (int z = a[2]; z <= b[2]; ++z) body(cellKey(openvdb::Vec3i(x, y, z)));
             }
         }
     };
@@ -686,7 +688,10 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     auto hashOf = [](std::uint64_t key) {
         return (key * 0x9E3779B97F4A7C15ull) >> (64 - HASH_BITS);
     };
-    for (const std::uint64_t key : cells) hashed[hashOf(key) >> 6] |= std::uint64_t(1) << (hashOf(key) & 63);
+    for (const std::uint64_t key : cells) {
+        const std::uint64_t h = hashOf(key);
+        hashed[h >> 6] |= std::uint64_t(1) << (h & 63);
+    }
 
     // Those triangles, patch by patch, and all points: separation there moves free points
     // only, so no triangle left out can come to meet one that moves.
@@ -697,7 +702,7 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
         for (std::size_t f = patch.firstTriangle; f < patch.firstTriangle + patch.triangleCount;
              ++f) {
             bool near = false;
-            forEachCell(std::uint32_t(f), 0.0, [&](std::uint64_t key) {
+            forEachCell(f, 0.0, [&](std::uint64_t key) {
                 const std::uint64_t h = hashOf(key);
                 near = near || ((hashed[h >> 6] >> (h & 63) & 1)
                                 && std::binary_search(cells.begin(), cells.end(), key));

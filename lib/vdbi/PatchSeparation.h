@@ -40,8 +40,9 @@ struct SeparationSettings
 /// wedge of that label has turned inside out. Each round finds the pairs of triangles that
 /// meet other than in shared corners and edges (trianglesTouch() of TriangleCrossing.h:
 /// edges through or touching triangles, triangles in one plane overlapping or touching, and
-/// triangles sharing an edge folded onto each other; a uniform grid gives the candidates) and moves each free
-/// corner of such a triangle one step along its vertex normal, away from the shared label:
+/// triangles sharing an edge folded onto each other; a uniform grid gives the candidates)
+/// and moves each free corner of such a triangle one step along its vertex normal, away
+/// from the shared label:
 /// both sides turn back and the wedge opens. A corner takes the first move that leaves fewer
 /// meeting pairs around it: that push, the mean of its neighbours (which opens a folded fan,
 /// as within one patch), half way there; else the push if it adds none; else the nearest
