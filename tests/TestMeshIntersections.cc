@@ -82,6 +82,33 @@ TEST_F(TestMeshIntersections, testDisjointTriangles)
     EXPECT_FALSE(intersect(q, Vec3I(0, 1, 2), Vec3I(3, 4, 5)));
 }
 
+// Triangles of flat remeshed patches (monu16 and monu1 at one voxel): their corners are in
+// one plane up to rounding, so the volumes of four of them have any sign. The checker took
+// the first pair, which do not even share a bounding box, for crossing, and a version that
+// tested the remaining volumes more loosely the second one: both are apart.
+TEST_F(TestMeshIntersections, testNearlyCoplanar)
+{
+    const vdbi::PointArray p = {
+        {96.843365005307703, 26.567028527655978, 83.981178276115656},
+        {96.019449764108856, 26.533668388499567, 83.378895117403772},
+        {96.843365005307703, 26.567028527655978, 82.981178276115699},
+        {96.019449764108842, 26.533668388499567, 84.378895117403772},
+        {96.843365005307703, 26.567028527655978, 84.981178276115685},
+        {96.019449764108856, 26.533668388499567, 85.378895117403758}};
+    EXPECT_FALSE(intersect(p, Vec3I(0, 1, 2), Vec3I(3, 4, 5)));
+    vdbi::PointArray q = {
+        {72.419710747860918, 68.437501048506022, -0.50000000006619305},
+        {73.455289250738701, 67.937498942017669, -0.50000000003549994},
+        {73.455289251767056, 68.937498905464281, -0.49999999920777966},
+        {71.455289251066333, 67.937498942900234, -0.50000000004902634},
+        {71.455289251275431, 66.93749894268413, -0.50000000001010747},
+        {72.419710748527706, 67.437501060393203, -0.50000000002090328}};
+    EXPECT_FALSE(intersect(q, Vec3I(0, 1, 2), Vec3I(3, 4, 5)));
+    // The second triangle moved within the plane onto the first: they overlap.
+    for (int i = 3; i < 6; ++i) q[i] += Vec3d(1.2, 1.0, 0.0);
+    EXPECT_TRUE(intersect(q, Vec3I(0, 1, 2), Vec3I(3, 4, 5)));
+}
+
 TEST_F(TestMeshIntersections, testSharedCorner)
 {
     const vdbi::PointArray p = {
