@@ -395,8 +395,10 @@ private:
 
     /// Pairs that meet among the triangles around @a v and those near them (TriangleCrossing.h's
     /// test, pairs within one patch too): a move may not add any.
-    std::size_t meetingsAround(std::uint32_t v) const
+    /// @param pairs  if given, set to those pairs
+    std::size_t meetingsAround(std::uint32_t v, Pairs* pairs = nullptr) const
     {
+        if (pairs) pairs->clear();
         std::size_t count = 0;
         const std::uint32_t *first = mAround.data() + mStart[v],
                             *last = mAround.data() + mStart[v + 1];
@@ -405,10 +407,22 @@ private:
             mGrid.forEachNeighbour(f, [&](std::uint32_t g) {
                 // A pair of two triangles around v is counted from the smaller one.
                 if (g < f && std::find(first, last, g) != last) return;
-                count += trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
+                if (!trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g])) return;
+                ++count;
+                if (pairs) pairs->emplace_back(f, g);
             });
         }
         return count;
+    }
+
+    /// Does one of the pairs that met around the vertex being moved (mMeetingHere) no longer
+    /// meet? Else no move of it leaves fewer meeting pairs: the full count is not needed.
+    bool freesAPair() const
+    {
+        for (const auto& [f, g] : mMeetingHere) {
+            if (!trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g])) return true;
+        }
+        return false;
     }
 
     /// @brief Moves @a v to @a next if that leaves at most @a limit meeting pairs around it,
@@ -431,7 +445,8 @@ private:
             turned = !(after.dot(before) > 0.0)
                 && !(before.dot(normal) <= 0.0 && after.dot(normal) > 0.0);
         }
-        if (turned || meetingsAround(v) > limit) {
+        if (turned || (limit < mMeetingHere.size() && !freesAPair())
+            || meetingsAround(v) > limit) {
             mMesh.points[v] = old;
             return false;
         }
@@ -458,7 +473,7 @@ private:
         const Vec3d step = length > 0.0 ? normal * (mSettings.step / length) : Vec3d(0.0);
         const bool pushed = direction != 0 && length > 0.0;
         const Vec3d push = direction > 0 ? here + step : here - step;
-        const std::size_t meetings = meetingsAround(v);
+        const std::size_t meetings = meetingsAround(v, &mMeetingHere);
         if (meetings > 0) {
             const Vec3d mean = towardsNeighbours(v);
             if ((pushed && moveTo(v, push, normal, meetings - 1))
@@ -518,6 +533,8 @@ private:
     /// Triangles around every point: mAround[mStart[v] .. mStart[v + 1]).
     std::vector<std::uint32_t> mStart, mAround;
     std::vector<Vec3d> mBefore;
+    /// The pairs meeting around the vertex moveCorner() moves, before it moves.
+    Pairs mMeetingHere;
 };
 
 } // namespace
