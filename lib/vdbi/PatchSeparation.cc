@@ -8,6 +8,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -16,6 +17,25 @@ namespace vdbi {
 namespace {
 
 using Vec3d = openvdb::Vec3d;
+
+/// The 26 unit directions from a point of the integer lattice to its neighbours.
+const std::array<Vec3d, 26>&
+latticeDirections()
+{
+    static const std::array<Vec3d, 26> directions = [] {
+        std::array<Vec3d, 26> result;
+        std::size_t i = 0;
+        for (int x = -1; x <= 1; ++x) {
+            for (int y = -1; y <= 1; ++y) {
+                for (int z = -1; z <= 1; ++z) {
+                    if (x != 0 || y != 0 || z != 0) result[i++] = Vec3d(x, y, z).unitSafe();
+                }
+            }
+        }
+        return result;
+    }();
+    return directions;
+}
 
 /// Triangle @a t as trianglesTouch() takes it, turned around (two corners swapped) if @a flip.
 CornerTriangle
@@ -458,10 +478,14 @@ private:
     /// along its normal that way, the mean of its neighbours (kept within maxMove of its
     /// start), half way there. Else the step that way if it adds no meeting pair (a wedge
     /// opens over several rounds); else the nearest point along or against the normal, whole
-    /// steps away and within maxMove of its start, that removes one.
+    /// steps away and within maxMove of its start, that removes one; else the nearest such
+    /// point along one of the 26 directions from a lattice point to its neighbours.
     /// @details The search along the normal finds moves that no single step makes: out of a
     /// crossing deeper than a step, which no step either way removes (frog at 2 voxels: 344
-    /// meeting pairs left with one step either way, 292 with the search).
+    /// meeting pairs left with one step either way, 292 with the search). Where the other
+    /// triangle lies across the normal, as in a wedge near a curve, the way out is sideways:
+    /// the lattice directions free such pairs (frog at 2 voxels: 202 -> 156 pairs left;
+    /// monu16 at 1 voxel: 4 -> 0).
     bool moveCorner(std::uint32_t v, int direction)
     {
         Vec3d normal(0.0);
@@ -491,6 +515,13 @@ private:
             if (along && moveTo(v, here + step * k, normal, meetings - 1)) return true;
             against = against && withinReach(v, here - step * k);
             if (against && moveTo(v, here - step * k, normal, meetings - 1)) return true;
+        }
+        // Points within maxMove of the start are within twice that of here.
+        for (double k = 1.0; k * mSettings.step <= 2.0 * mSettings.maxMove; k += 1.0) {
+            for (const Vec3d& d : latticeDirections()) {
+                const Vec3d next = here + d * (mSettings.step * k);
+                if (withinReach(v, next) && moveTo(v, next, normal, meetings - 1)) return true;
+            }
         }
         return false;
     }

@@ -46,7 +46,8 @@ struct SeparationSettings
 /// both sides turn back and the wedge opens. A corner takes the first move that leaves fewer
 /// meeting pairs around it: that push, the mean of its neighbours (which opens a folded fan,
 /// as within one patch), half way there; else the push if it adds none; else the nearest
-/// point along or against its normal, whole steps away, that removes one. Pairs within one
+/// point along or against its normal, whole steps away, that removes one; else the nearest
+/// such point along one of the 26 lattice directions (sideways, out of a wedge). Pairs within one
 /// patch and of patches sharing no label have no push.
 /// The grid is built once, every triangle's box widened by maxMove; a round tests only the
 /// pairs of triangles whose vertices moved in the round before. A move is not made if it
