@@ -360,3 +360,28 @@ TEST_F(TestPatchSeparation, testSplitLeavesTrianglesWithTwoFreeCorners)
     EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, {{0, 2}}), 1u);
     EXPECT_EQ(mesh.points.size(), points.size() + 1);
 }
+
+// Patch (1, 2) is one triangle with a locked corner 0 and free corners 1 and 2; a locked
+// triangle of patch (3, 4), which shares no label with it (no push), stands through it near
+// its edge (1, 2), in the plane x = 1.75. Whatever one free corner does within 0.4, the
+// triangle still reaches the plane across the standing one: the other corner holds it.
+// Both corners moving together 0.3 towards the locked one clear it.
+TEST_F(TestPatchSeparation, testCornersMoveTogether)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(2, -1, 0), Vec3d(2, 1, 0),                           // (1, 2)
+        Vec3d(1.75, -0.2, -1), Vec3d(1.75, 0.2, -1), Vec3d(1.75, 0, 1)};           // (3, 4)
+    vdbi::InterfaceMesh mesh =
+        makeMesh(points, {{1, 2, {Vec3I(0, 1, 2)}}, {3, 4, {Vec3I(3, 4, 5)}}});
+    ASSERT_EQ(intersectingPairs(mesh),
+              (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 1}}));
+
+    const vdbi::InterfaceMesh before = mesh;
+    const std::vector<std::uint8_t> movable = {0, 1, 1, 0, 0, 0};
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, unitSettings()), 0u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    // Together: one offset for both.
+    EXPECT_LT((mesh.points[1] - before.points[1] - (mesh.points[2] - before.points[2])).length(),
+              1e-12);
+    expectAllowedMoves(before, mesh, movable, unitSettings().maxMove);
+}

@@ -460,9 +460,9 @@ TEST_F(TestRemeshing, testVoxelArtAtOneVoxel)
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
 // voxel both ways and no intersecting triangles. Fails today (open): intersecting pairs (the
-// checker stops at 100) on frog at 2 voxels (156 by bench_remesh --check, 63 within one
-// patch), chr_knight at 2 and 4 voxels (10, 59), monu1 at 4 (7), monu16 at 2 and 4 (4,
-// 100+), menger at 2 and 4 (54, 100+); none at 1 voxel on any of these four, nor on monu1
+// checker stops at 100) on frog at 2 voxels (133 by bench_remesh --check, 41 within one
+// patch), chr_knight at 2 and 4 voxels (10, 59), monu1 at 4 (6), monu16 at 2 and 4 (4,
+// 100+), menger at 2 and 4 (30, 100+); none at 1 voxel on any of these four, nor on monu1
 // at 2. Closeness fails at 4 voxels (raw faces up to 1.5 voxels from the remeshed surface
 // on monu16, remeshed vertices up to 1.9 from the raw one on monu16 and menger); within
 // one voxel at 1 and 2. Takes about 9 minutes.

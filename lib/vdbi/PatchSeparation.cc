@@ -390,6 +390,30 @@ public:
             meeting.insert(meeting.end(), found.begin(), found.end());
             std::sort(meeting.begin(), meeting.end());
         }
+        // What no corner alone frees: the free corners of a meeting triangle move together.
+        // As above, a round looks at the pairs it found: all at first, then those of
+        // triangles that moved.
+        found = meeting;
+        for (int round = 0; round < mSettings.rounds && !found.empty(); ++round) {
+            std::fill(active.begin(), active.end(), 0);
+            bool moved = false;
+            for (const auto& [f, g] : found) {
+                if (active[f] || active[g]) continue;   // moved this round already
+                for (const std::uint32_t h : {f, g}) {
+                    if (!moveTogether(h)) continue;
+                    for (const std::uint32_t t : mGroupTriangles) active[t] = 1;
+                    moved = true;
+                    break;
+                }
+            }
+            if (!moved) break;
+            found = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
+            meeting.erase(std::remove_if(meeting.begin(), meeting.end(), [&](const auto& pair) {
+                return active[pair.first] || active[pair.second];
+            }), meeting.end());
+            meeting.insert(meeting.end(), found.begin(), found.end());
+            std::sort(meeting.begin(), meeting.end());
+        }
         return meeting;
     }
 
@@ -418,14 +442,19 @@ private:
     /// @param pairs  if given, set to those pairs
     std::size_t meetingsAround(std::uint32_t v, Pairs* pairs = nullptr) const
     {
+        return meetingsAmong(mAround.data() + mStart[v], mAround.data() + mStart[v + 1], pairs);
+    }
+
+    /// Pairs that meet among the triangles [first, last) and those near them, each once.
+    std::size_t meetingsAmong(const std::uint32_t* first, const std::uint32_t* last,
+                              Pairs* pairs) const
+    {
         if (pairs) pairs->clear();
         std::size_t count = 0;
-        const std::uint32_t *first = mAround.data() + mStart[v],
-                            *last = mAround.data() + mStart[v + 1];
         for (const std::uint32_t* i = first; i != last; ++i) {
             const std::uint32_t f = *i;
             mGrid.forEachNeighbour(f, [&](std::uint32_t g) {
-                // A pair of two triangles around v is counted from the smaller one.
+                // A pair of two of the triangles is counted from the smaller one.
                 if (g < f && std::find(first, last, g) != last) return;
                 if (!trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g])) return;
                 ++count;
@@ -526,6 +555,68 @@ private:
         return false;
     }
 
+    /// @brief Moves the free corners of triangle @a h together, by one offset, to the nearest
+    /// place that leaves fewer meeting pairs around them: whole steps along or against the
+    /// triangle's normal or along one of the 26 lattice directions, every corner within
+    /// maxMove of its start, no triangle around them turned over.
+    /// @details For pairs that no move of one corner frees: the other corner holds the
+    /// triangle in place, or drags a neighbour through another triangle (in a wedge of one
+    /// label at a curve, where the patch is a strip of slivers along it).
+    bool moveTogether(std::uint32_t h)
+    {
+        mGroup.clear();
+        for (int i = 0; i < 3; ++i) {
+            if (mMovable[mMesh.triangles[h][i]]) mGroup.push_back(mMesh.triangles[h][i]);
+        }
+        if (mGroup.size() < 2) return false;
+        mGroupTriangles.clear();
+        for (const std::uint32_t v : mGroup) {
+            mGroupTriangles.insert(mGroupTriangles.end(), mAround.begin() + mStart[v],
+                                   mAround.begin() + mStart[v + 1]);
+        }
+        std::sort(mGroupTriangles.begin(), mGroupTriangles.end());
+        mGroupTriangles.erase(std::unique(mGroupTriangles.begin(), mGroupTriangles.end()),
+                              mGroupTriangles.end());
+        const std::uint32_t *first = mGroupTriangles.data(),
+                            *last = first + mGroupTriangles.size();
+        const std::size_t meetings = meetingsAmong(first, last, &mMeetingHere);
+        if (meetings == 0) return false;
+        mBefore.clear();
+        for (const std::uint32_t f : mGroupTriangles) mBefore.push_back(faceNormal(f));
+        mGroupPoints.clear();
+        for (const std::uint32_t v : mGroup) mGroupPoints.push_back(mMesh.points[v]);
+        const Vec3d normal = faceNormal(h);
+        const double length = normal.length();
+        auto tryOffset = [&](const Vec3d& offset) {
+            for (std::size_t i = 0; i < mGroup.size(); ++i) {
+                if (!withinReach(mGroup[i], mGroupPoints[i] + offset)) return false;
+            }
+            for (std::size_t i = 0; i < mGroup.size(); ++i) {
+                mMesh.points[mGroup[i]] = mGroupPoints[i] + offset;
+            }
+            bool turned = false;
+            for (std::size_t i = 0; i < mGroupTriangles.size() && !turned; ++i) {
+                turned = !(faceNormal(mGroupTriangles[i]).dot(mBefore[i]) > 0.0);
+            }
+            if (!turned && freesAPair() && meetingsAmong(first, last, nullptr) < meetings) {
+                return true;
+            }
+            for (std::size_t i = 0; i < mGroup.size(); ++i) mMesh.points[mGroup[i]] = mGroupPoints[i];
+            return false;
+        };
+        for (double k = 1.0; k * mSettings.step <= 2.0 * mSettings.maxMove; k += 1.0) {
+            const double distance = mSettings.step * k;
+            if (length > 0.0 && (tryOffset(normal * (distance / length))
+                                 || tryOffset(normal * (-distance / length)))) {
+                return true;
+            }
+            for (const Vec3d& d : latticeDirections()) {
+                if (tryOffset(d * distance)) return true;
+            }
+        }
+        return false;
+    }
+
     /// Is @a p within maxMove of where @a v started?
     bool withinReach(std::uint32_t v, const Vec3d& p) const
     {
@@ -564,8 +655,12 @@ private:
     /// Triangles around every point: mAround[mStart[v] .. mStart[v + 1]).
     std::vector<std::uint32_t> mStart, mAround;
     std::vector<Vec3d> mBefore;
-    /// The pairs meeting around the vertex moveCorner() moves, before it moves.
+    /// The pairs meeting around the vertex moveCorner() moves, or the corners moveTogether()
+    /// moves, before they move.
     Pairs mMeetingHere;
+    /// moveTogether()'s corners, where they were, and the triangles around them.
+    std::vector<std::uint32_t> mGroup, mGroupTriangles;
+    std::vector<Vec3d> mGroupPoints;
 };
 
 } // namespace

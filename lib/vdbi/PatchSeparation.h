@@ -47,7 +47,9 @@ struct SeparationSettings
 /// meeting pairs around it: that push, the mean of its neighbours (which opens a folded fan,
 /// as within one patch), half way there; else the push if it adds none; else the nearest
 /// point along or against its normal, whole steps away, that removes one; else the nearest
-/// such point along one of the 26 lattice directions (sideways, out of a wedge). Pairs within one
+/// such point along one of the 26 lattice directions (sideways, out of a wedge). Pairs that
+/// no corner frees alone are then tried with the free corners of one triangle moving
+/// together, by one offset. Pairs within one
 /// patch and of patches sharing no label have no push.
 /// The grid is built once, every triangle's box widened by maxMove; a round tests only the
 /// pairs of triangles whose vertices moved in the round before. A move is not made if it
