@@ -382,13 +382,7 @@ public:
                 moved = true;
             }
             if (!moved) break;
-            // Pairs without a triangle that moved meet as they did.
-            found = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
-            meeting.erase(std::remove_if(meeting.begin(), meeting.end(), [&](const auto& pair) {
-                return active[pair.first] || active[pair.second];
-            }), meeting.end());
-            meeting.insert(meeting.end(), found.begin(), found.end());
-            std::sort(meeting.begin(), meeting.end());
+            found = findAgain(active, meeting);
         }
         // What no corner alone frees: the free corners of a meeting triangle move together.
         // As above, a round looks at the pairs it found: all at first, then those of
@@ -407,17 +401,26 @@ public:
                 }
             }
             if (!moved) break;
-            found = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
-            meeting.erase(std::remove_if(meeting.begin(), meeting.end(), [&](const auto& pair) {
-                return active[pair.first] || active[pair.second];
-            }), meeting.end());
-            meeting.insert(meeting.end(), found.begin(), found.end());
-            std::sort(meeting.begin(), meeting.end());
+            found = findAgain(active, meeting);
         }
         return meeting;
     }
 
 private:
+    /// After a round moved the corners of the @a active triangles: their meeting pairs, found
+    /// again and returned, replace theirs in @a meeting (kept ascending). Pairs without an
+    /// active triangle meet as they did.
+    Pairs findAgain(const std::vector<char>& active, Pairs& meeting) const
+    {
+        Pairs found = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
+        meeting.erase(std::remove_if(meeting.begin(), meeting.end(), [&](const auto& pair) {
+            return active[pair.first] || active[pair.second];
+        }), meeting.end());
+        meeting.insert(meeting.end(), found.begin(), found.end());
+        std::sort(meeting.begin(), meeting.end());
+        return found;
+    }
+
     /// +1 or -1: which way along the normal of triangle @a h is away from the label its patch
     /// shares with that of @a other (the normal points from a into b); 0 for triangles of one
     /// patch, or of patches sharing no label.
