@@ -105,14 +105,14 @@ constexpr double FLAT = 1e-9;
 bool
 disjointTrianglesIntersect(const Vec3d s[3], const Vec3d t[3])
 {
+    for (int k = 0; k < 3; ++k) {
+        if (std::max({s[0][k], s[1][k], s[2][k]}) < std::min({t[0][k], t[1][k], t[2][k]})
+            || std::max({t[0][k], t[1][k], t[2][k]}) < std::min({s[0][k], s[1][k], s[2][k]})) {
+            return false;   // apart along axis k
+        }
+    }
     double longest2 = 0.0;
     for (int i = 0; i < 3; ++i) {
-        for (int k = 0; k < 3; ++k) {
-            if (std::max({s[0][k], s[1][k], s[2][k]}) < std::min({t[0][k], t[1][k], t[2][k]})
-                || std::max({t[0][k], t[1][k], t[2][k]}) < std::min({s[0][k], s[1][k], s[2][k]})) {
-                return false;   // apart along axis k
-            }
-        }
         longest2 = std::max({longest2, (s[(i + 1) % 3] - s[i]).lengthSqr(),
                              (t[(i + 1) % 3] - t[i]).lengthSqr()});
     }
