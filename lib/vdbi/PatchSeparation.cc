@@ -2,10 +2,8 @@
 
 #include <vdbi/PatchSeparation.h>
 
-#include <vdbi/ParallelRanges.h>
+#include <vdbi/CandidateGrid.h>
 #include <vdbi/TriangleCrossing.h>
-
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -77,236 +75,7 @@ trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::
     return trianglesTouch(first, second);
 }
 
-/// Calls @a body(c, begin, end) for chunk c = [begin, end) of [0, count) in chunks of fixed
-/// size, in parallel or not.
-template<typename Body>
-void
-forEachChunk(std::size_t count, std::size_t chunk, bool threaded, const Body& body)
-{
-    forEachRange((count + chunk - 1) / chunk, 1, threaded, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t c = begin; c < end; ++c) {
-            body(c, c * chunk, std::min(count, (c + 1) * chunk));
-        }
-    });
-}
-
 using Pairs = TrianglePairs;
-
-/// The cell of @a p in a grid of cubes 1 / @a inverse wide.
-openvdb::Vec3i
-cellOf(const Vec3d& p, double inverse)
-{
-    return openvdb::Vec3i(int(std::floor(p[0] * inverse)), int(std::floor(p[1] * inverse)),
-                          int(std::floor(p[2] * inverse)));
-}
-
-/// A cell as one key, 21 bits per axis: far apart cells may share a key, which only makes
-/// more candidates to test.
-std::uint64_t
-cellKey(const openvdb::Vec3i& c)
-{
-    const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
-    return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
-        | (std::uint64_t(c[2]) & mask);
-}
-
-/// The cells [@a low, @a high] (of cubes 1 / @a inverse wide) that the bounding box of
-/// triangle @a f, widened by @a margin, overlaps.
-void
-triangleCells(const InterfaceMesh& mesh, std::size_t f, double margin, double inverse,
-              openvdb::Vec3i& low, openvdb::Vec3i& high)
-{
-    const openvdb::Vec3I& t = mesh.triangles[f];
-    Vec3d lo = mesh.points[t[0]], hi = lo;
-    for (int i = 1; i < 3; ++i) {
-        lo = openvdb::math::minComponent(lo, mesh.points[t[i]]);
-        hi = openvdb::math::maxComponent(hi, mesh.points[t[i]]);
-    }
-    low = cellOf(lo - Vec3d(margin), inverse);
-    high = cellOf(hi + Vec3d(margin), inverse);
-}
-
-/// @brief Triangles bucketed by the grid cells their bounding boxes overlap, built once.
-/// @details No vertex moves farther than a margin from where it was when the grid was built,
-/// so every box is widened by that margin: two triangles that can ever meet share a cell.
-/// A pair sharing several cells is taken in the lowest one: there, along every axis, one of
-/// the two boxes starts. Every entry keeps the axes along which its triangle's box starts in
-/// its cell, so that test reads nothing but the entries being walked. The first round walks
-/// the cells, later ones look up the cells of a few triangles.
-/// A cell is as wide as the widened box of a triangle with edges of @a cellSize, so that such
-/// a box overlaps about 8 cells: narrower cells make more entries to sort than they save pair
-/// tests.
-class CandidateGrid
-{
-public:
-    CandidateGrid(const InterfaceMesh& mesh, double cellSize, double margin, bool threaded)
-        : mInverse(1.0 / (cellSize + 2.0 * margin))
-        , mLow(mesh.triangles.size()), mHigh(mesh.triangles.size())
-    {
-        const std::size_t count = mesh.triangles.size();
-        // The entries of triangle f: [first[f], first[f + 1]).
-        std::vector<std::uint64_t> first(count + 1, 0);
-        forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
-            for (std::size_t f = begin; f < end; ++f) {
-                triangleCells(mesh, f, margin, mInverse, mLow[f], mHigh[f]);
-                const openvdb::Vec3i size = mHigh[f] - mLow[f] + openvdb::Vec3i(1);
-                first[f + 1] = std::uint64_t(size[0]) * size[1] * size[2];
-            }
-        });
-        for (std::size_t f = 0; f < count; ++f) first[f + 1] += first[f];
-
-        // Every cell a triangle's box overlaps, sorted by (cell key, triangle): these are
-        // unique, so the order does not depend on the sort. Left unset until the threads
-        // fill it, as hundreds of MB are zeroed by one thread otherwise.
-        std::vector<Entry, DefaultInitAllocator<Entry>> entries(first[count]);
-        forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
-            for (std::size_t f = begin; f < end; ++f) {
-                std::uint64_t j = first[f];
-                forEachCell(std::uint32_t(f), [&](const openvdb::Vec3i& c, std::uint8_t starts) {
-                    entries[j++] = {cellKey(c), std::uint32_t(f), starts};
-                });
-            }
-        });
-        if (threaded) tbb::parallel_sort(entries.begin(), entries.end());
-        else std::sort(entries.begin(), entries.end());
-
-        for (std::size_t j = 0; j < entries.size(); ++j) {
-            if (j > 0 && entries[j].key == entries[j - 1].key) continue;
-            mCellKeys.push_back(entries[j].key);
-            mCellStart.push_back(j);
-        }
-        mCellStart.push_back(entries.size());
-        mCellTriangles.resize(entries.size());
-        mCellStarts.resize(entries.size());
-        forEachChunk(entries.size(), CHUNK, threaded,
-                     [&](std::size_t, std::size_t begin, std::size_t end) {
-            for (std::size_t j = begin; j < end; ++j) {
-                mCellTriangles[j] = entries[j].triangle;
-                mCellStarts[j] = entries[j].starts;
-            }
-        });
-    }
-
-    /// @brief Calls @a body(g) once for every triangle g != @a f sharing a cell with @a f.
-    template<typename Body>
-    void forEachNeighbour(std::uint32_t f, const Body& body) const
-    {
-        forEachCell(f, [&](const openvdb::Vec3i& c, std::uint8_t starts) {
-            const std::size_t cellIndex = std::size_t(
-                std::lower_bound(mCellKeys.begin(), mCellKeys.end(), cellKey(c))
-                - mCellKeys.begin());
-            for (auto j = mCellStart[cellIndex]; j < mCellStart[cellIndex + 1]; ++j) {
-                const std::uint32_t g = mCellTriangles[j];
-                if (g != f && isLowestSharedCell(starts, mCellStarts[j])) body(g);
-            }
-        });
-    }
-
-    /// @brief Every pair (first < second) of meeting triangles, of one patch or of two,
-    /// sharing a cell, once each, in the order of the cells.
-    Pairs allMeetingPairs(const InterfaceMesh& mesh, bool threaded) const
-    {
-        const std::size_t cellCount = mCellKeys.size();
-        std::vector<Pairs> perChunk((cellCount + CELL_CHUNK - 1) / CELL_CHUNK);
-        auto search = [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-            for (std::size_t c = begin; c < end; ++c) {
-                for (auto i = mCellStart[c]; i < mCellStart[c + 1]; ++i) {
-                    const std::uint32_t f = mCellTriangles[i];
-                    for (auto j = i + 1; j < mCellStart[c + 1]; ++j) {
-                        const std::uint32_t g = mCellTriangles[j];
-                        if (isLowestSharedCell(mCellStarts[i], mCellStarts[j])
-                            && trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
-                            perChunk[chunk].emplace_back(f, g);
-                        }
-                    }
-                }
-            }
-        };
-        forEachChunk(cellCount, CELL_CHUNK, threaded, search);
-        return concatenate(perChunk);
-    }
-
-    /// @brief Every pair (first < second) of meeting triangles, of one patch or of two,
-    /// sharing a cell with at least one of them active, once each, in the order of the
-    /// active triangle they were found from.
-    Pairs meetingPairs(const InterfaceMesh& mesh, const std::vector<char>& active,
-                       bool threaded) const
-    {
-        const std::size_t count = active.size();
-        std::vector<Pairs> perChunk((count + CHUNK - 1) / CHUNK);
-        auto search = [&](std::size_t c, std::size_t begin, std::size_t end) {
-            for (std::uint32_t f = std::uint32_t(begin); f < end; ++f) {
-                if (!active[f]) continue;
-                forEachNeighbour(f, [&](std::uint32_t g) {
-                    // Two active triangles: taken from the smaller one.
-                    if (active[g] && g < f) return;
-                    if (trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g])) {
-                        perChunk[c].emplace_back(std::min(f, g), std::max(f, g));
-                    }
-                });
-            }
-        };
-        forEachChunk(count, CHUNK, threaded, search);
-        return concatenate(perChunk);
-    }
-
-private:
-    /// Triangles (entries) per parallel task, and cells: the output is the same for any
-    /// number of threads.
-    static constexpr std::size_t CHUNK = 4096, CELL_CHUNK = 1024;
-    /// Bits 0, 1, 2 of an entry's starts: its box starts in the cell along x, y, z.
-    static constexpr std::uint8_t ALL_AXES = 7;
-
-    /// Whether a cell is the lowest that two boxes share, from the starts of their entries
-    /// there: along every axis one of them starts in it.
-    static bool isLowestSharedCell(std::uint8_t starts, std::uint8_t otherStarts)
-    {
-        return (starts | otherStarts) == ALL_AXES;
-    }
-
-    struct Entry
-    {
-        std::uint64_t key;
-        std::uint32_t triangle;
-        std::uint8_t starts;
-        bool operator<(const Entry& other) const
-        {
-            return key < other.key || (key == other.key && triangle < other.triangle);
-        }
-    };
-
-    static Pairs concatenate(const std::vector<Pairs>& parts)
-    {
-        Pairs all;
-        for (const Pairs& part : parts) all.insert(all.end(), part.begin(), part.end());
-        return all;
-    }
-
-    /// Calls @a body(c, starts) for every cell c of the box of triangle @a f, with the axes
-    /// along which the box starts there.
-    template<typename Body>
-    void forEachCell(std::uint32_t f, const Body& body) const
-    {
-        const openvdb::Vec3i &lo = mLow[f], &hi = mHigh[f];
-        for (int x = lo[0]; x <= hi[0]; ++x) {
-            for (int y = lo[1]; y <= hi[1]; ++y) {
-                for (int z = lo[2]; z <= hi[2]; ++z) {
-                    body(openvdb::Vec3i(x, y, z),
-                         std::uint8_t((x == lo[0]) | (y == lo[1]) << 1 | (z == lo[2]) << 2));
-                }
-            }
-        }
-    }
-
-    double mInverse;
-    /// The cells of the box of every triangle.
-    std::vector<openvdb::Vec3i> mLow, mHigh;
-    /// The cells, ascending by key: the triangles in cell c are mCellTriangles[mCellStart[c]
-    /// .. mCellStart[c + 1]), ascending, their boxes starting there along mCellStarts.
-    std::vector<std::uint64_t> mCellKeys, mCellStart;
-    std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>> mCellTriangles;
-    std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>> mCellStarts;
-};
 
 /// Triangles around every point of @a mesh: around[first[v] .. first[v + 1]).
 void
@@ -352,7 +121,7 @@ public:
         std::vector<char> active(mMesh.triangles.size(), 0), listed(pointCount, 0);
         std::vector<int> push(pointCount, 0);
         std::vector<std::uint32_t> corners;
-        Pairs meeting = mGrid.allMeetingPairs(mMesh, mSettings.threaded);
+        Pairs meeting = mGrid.allMeetingPairs(meets(), mSettings.threaded);
         std::sort(meeting.begin(), meeting.end());
         // The pairs of this round's search: all at first, then those of triangles that moved.
         Pairs found = meeting;
@@ -407,12 +176,20 @@ public:
     }
 
 private:
+    /// trianglesMeet() on triangle indices, for the candidate grid.
+    MeetTest meets() const
+    {
+        return [this](std::uint32_t f, std::uint32_t g) {
+            return trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
+        };
+    }
+
     /// After a round moved the corners of the @a active triangles: their meeting pairs, found
     /// again and returned, replace theirs in @a meeting (kept ascending). Pairs without an
     /// active triangle meet as they did.
     Pairs findAgain(const std::vector<char>& active, Pairs& meeting) const
     {
-        Pairs found = mGrid.meetingPairs(mMesh, active, mSettings.threaded);
+        Pairs found = mGrid.meetingPairs(active, meets(), mSettings.threaded);
         meeting.erase(std::remove_if(meeting.begin(), meeting.end(), [&](const auto& pair) {
             return active[pair.first] || active[pair.second];
         }), meeting.end());

@@ -7,6 +7,7 @@
 #ifndef VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
 #define VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
 
+#include <vdbi/CandidateGrid.h>
 #include <vdbi/InterfaceMesh.h>
 
 #include <openvdb/Types.h>
@@ -16,9 +17,6 @@
 #include <vector>
 
 namespace vdbi {
-
-/// Pairs (first < second) of triangle indices.
-using TrianglePairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
 /// Settings of separatePatches().
 struct SeparationSettings
