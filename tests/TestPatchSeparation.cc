@@ -385,3 +385,49 @@ TEST_F(TestPatchSeparation, testCornersMoveTogether)
               1e-12);
     expectAllowedMoves(before, mesh, movable, unitSettings().maxMove);
 }
+
+// A wedge of label 3 in the frog at one voxel (the triangles within 0.8 voxel of
+// (237.2, 256.9, 122.2) before separation, in voxels from there). Patch (3, 10) runs along
+// the curve 0-4 as a strip of slivers: its free points 13, 14 and 15 lie 0.01-0.05 voxel
+// across the curve line, on the side of patch (0, 3), so four of its triangles cross (0, 3)'s
+// triangle on the curve. Any one of them, or the corners of one triangle, moving alone turns
+// a sliver between them over; moving all the free corners of the meeting triangles of the
+// strip together keeps the slivers as they are and frees every pair.
+TEST_F(TestPatchSeparation, testMeetingTrianglesMoveTogether)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(-0.356947, -0.141453, 0.051984), Vec3d(-0.742125, -0.905417, -0.610333),
+        Vec3d(-1.369809, -0.394006, 0.020378), Vec3d(0.269188, 0.254680, -0.911328),
+        Vec3d(0.278127, 0.214230, 0.050148),   Vec3d(1.001325, 0.605211, 0.076223),
+        Vec3d(-0.227434, -0.368521, -0.928134), Vec3d(-0.704977, 0.584798, 0.257262),
+        Vec3d(0.524464, -0.800079, 0.376695),  Vec3d(1.264068, -0.320868, -0.406021),
+        Vec3d(-0.666718, 0.063396, 0.794999),  Vec3d(-1.025935, -0.714408, 0.354290),
+        Vec3d(-0.192612, 0.302344, 0.040904),  Vec3d(-0.061621, 0.010658, 0.049684),
+        Vec3d(0.072122, 0.036001, 0.050118),   Vec3d(0.034017, 0.030343, 0.049735),
+        Vec3d(0.223605, 1.070243, 0.167492)};
+    const std::vector<std::uint8_t> movable = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0};
+    vdbi::InterfaceMesh mesh = makeMesh(points, {
+        {0, 3, {Vec3I(0, 1, 2), Vec3I(3, 4, 5), Vec3I(6, 4, 3), Vec3I(6, 0, 4), Vec3I(1, 0, 6),
+                Vec3I(7, 0, 2)}},
+        {0, 10, {Vec3I(8, 4, 0), Vec3I(9, 5, 4), Vec3I(10, 0, 7), Vec3I(4, 8, 9),
+                 Vec3I(8, 0, 11), Vec3I(10, 11, 0)}},
+        {3, 10, {Vec3I(7, 0, 12), Vec3I(13, 12, 0), Vec3I(13, 0, 4), Vec3I(14, 13, 4),
+                 Vec3I(12, 14, 4), Vec3I(12, 15, 14), Vec3I(4, 5, 16), Vec3I(4, 16, 12),
+                 Vec3I(13, 15, 12), Vec3I(14, 15, 13), Vec3I(12, 16, 7)}}});
+    ASSERT_EQ(intersectingPairs(mesh),
+              (std::set<std::pair<std::uint32_t, std::uint32_t>>{{3, 13}, {3, 16}, {3, 17}, {3, 20}}));
+
+    const vdbi::InterfaceMesh before = mesh;
+    vdbi::TrianglePairs left;
+    vdbi::separatePatches(mesh, movable, unitSettings(), nullptr, &left);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    // What the library still counts: slivers 15 and 16 folded onto each other at their shared
+    // edge (14, 4), which they meet along only.
+    EXPECT_EQ(left, (vdbi::TrianglePairs{{15, 16}}));
+    expectAllowedMoves(before, mesh, movable, unitSettings().maxMove);
+    // Together: the three points across the curve by one offset.
+    for (const std::uint32_t v : {14u, 15u}) {
+        EXPECT_LT((mesh.points[v] - before.points[v] - (mesh.points[13] - before.points[13])).length(),
+                  1e-12);
+    }
+}

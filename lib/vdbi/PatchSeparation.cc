@@ -153,17 +153,31 @@ public:
             if (!moved) break;
             found = findAgain(active, meeting);
         }
-        // What no corner alone frees: the free corners of a meeting triangle move together.
-        // As above, a round looks at the pairs it found: all at first, then those of
-        // triangles that moved.
-        found = meeting;
+        // What no corner alone frees: the free corners of a meeting triangle move together;
+        // what that leaves, with those of the meeting triangles of its patch around them.
+        for (const bool widened : {false, true}) {
+            moveGroups(widened, active, meeting);
+        }
+        return meeting;
+    }
+
+private:
+    /// @brief Rounds of moveTogether() over the meeting pairs, updating @a meeting: a round
+    /// looks at the pairs it found, all at first, then those of triangles that moved.
+    void moveGroups(bool widened, std::vector<char>& active, Pairs& meeting)
+    {
+        Pairs found = meeting;
         for (int round = 0; round < mSettings.rounds && !found.empty(); ++round) {
             std::fill(active.begin(), active.end(), 0);
+            if (widened) {
+                mIsMeeting.assign(mMesh.triangles.size(), 0);
+                for (const auto& [f, g] : meeting) mIsMeeting[f] = mIsMeeting[g] = 1;
+            }
             bool moved = false;
             for (const auto& [f, g] : found) {
                 if (active[f] || active[g]) continue;   // moved this round already
                 for (const std::uint32_t h : {f, g}) {
-                    if (!moveTogether(h)) continue;
+                    if (!moveTogether(h, widened)) continue;
                     for (const std::uint32_t t : mGroupTriangles) active[t] = 1;
                     moved = true;
                     break;
@@ -172,10 +186,8 @@ public:
             if (!moved) break;
             found = findAgain(active, meeting);
         }
-        return meeting;
     }
 
-private:
     /// trianglesMeet() on triangle indices, for the candidate grid.
     MeetTest meets() const
     {
@@ -338,15 +350,33 @@ private:
     /// @brief Moves the free corners of triangle @a h together, by one offset, to the nearest
     /// place that leaves fewer meeting pairs around them: whole steps along or against the
     /// triangle's normal or along one of the 26 lattice directions, every corner within
-    /// maxMove of its start, no triangle around them turned over.
+    /// maxMove of its start, no triangle around them turned over. If @a widened, the free
+    /// corners of the meeting triangles (mIsMeeting) of its patch around those move too.
     /// @details For pairs that no move of one corner frees: the other corner holds the
     /// triangle in place, or drags a neighbour through another triangle (in a wedge of one
-    /// label at a curve, where the patch is a strip of slivers along it).
-    bool moveTogether(std::uint32_t h)
+    /// label at a curve, where the patch is a strip of slivers along it). Widened: where the
+    /// strip's slivers lie across the curve, a move of some of their corners turns a sliver
+    /// between them over; all of them moving keeps the slivers as they are (frog at one
+    /// voxel: a wedge of 4 crossing pairs freed).
+    bool moveTogether(std::uint32_t h, bool widened)
     {
         mGroup.clear();
         for (int i = 0; i < 3; ++i) {
             if (mMovable[mMesh.triangles[h][i]]) mGroup.push_back(mMesh.triangles[h][i]);
+        }
+        const std::size_t own = widened ? mGroup.size() : 0;
+        for (std::size_t k = 0; k < own; ++k) {
+            const std::uint32_t v = mGroup[k];
+            for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+                const std::uint32_t f = mAround[i];
+                if (!mIsMeeting[f] || mPatchOf[f] != mPatchOf[h]) continue;
+                for (int j = 0; j < 3; ++j) {
+                    const std::uint32_t w = mMesh.triangles[f][j];
+                    if (mMovable[w] && std::find(mGroup.begin(), mGroup.end(), w) == mGroup.end()) {
+                        mGroup.push_back(w);
+                    }
+                }
+            }
         }
         if (mGroup.size() < 2) return false;
         mGroupTriangles.clear();
@@ -441,6 +471,8 @@ private:
     /// moveTogether()'s corners, where they were, and the triangles around them.
     std::vector<std::uint32_t> mGroup, mGroupTriangles;
     std::vector<Vec3d> mGroupPoints;
+    /// Per triangle: in a meeting pair (set at the start of every widened round).
+    std::vector<char> mIsMeeting;
 };
 
 } // namespace

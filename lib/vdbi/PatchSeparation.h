@@ -47,7 +47,8 @@ struct SeparationSettings
 /// point along or against its normal, whole steps away, that removes one; else the nearest
 /// such point along one of the 26 lattice directions (sideways, out of a wedge). Pairs that
 /// no corner frees alone are then tried with the free corners of one triangle moving
-/// together, by one offset. Pairs within one
+/// together, by one offset, then with those of the meeting triangles of its patch around
+/// them too. Pairs within one
 /// patch and of patches sharing no label have no push.
 /// The grid is built once, every triangle's box widened by maxMove; a round tests only the
 /// pairs of triangles whose vertices moved in the round before. A move is not made if it
