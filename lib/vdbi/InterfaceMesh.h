@@ -84,6 +84,11 @@ struct InterfaceMesh
     std::vector<std::array<Label, 2>> triangleLabels() const;
 };
 
+/// @brief The triangles around every point of @a mesh: around[first[v] .. first[v + 1]),
+/// ascending.
+void trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& first,
+                           std::vector<std::uint32_t>& around);
+
 } // namespace vdbi
 
 #endif // VDBI_INTERFACE_MESH_HAS_BEEN_INCLUDED

@@ -35,64 +35,7 @@ latticeDirections()
     return directions;
 }
 
-/// Triangle @a t as trianglesTouch() takes it, turned around (two corners swapped) if @a flip.
-CornerTriangle
-cornerTriangle(const PointArray& points, const openvdb::Vec3I& t, bool flip)
-{
-    const int i = flip ? 2 : 1, j = flip ? 1 : 2;
-    return CornerTriangle(toPoint(points[t[0]]), toPoint(points[t[i]]), toPoint(points[t[j]]),
-                          int(t[0]), int(t[i]), int(t[j]));
-}
-
-/// Does @a t run along an edge of @a s in the same direction as @a s?
-bool
-runsAlongSameWay(const openvdb::Vec3I& s, const openvdb::Vec3I& t)
-{
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            if (s[i] == t[j] && s[(i + 1) % 3] == t[(j + 1) % 3]) return true;
-        }
-    }
-    return false;
-}
-
-/// @brief Do triangles @a s and @a t meet other than in the corners and edges they share?
-/// @details trianglesTouch() (TriangleCrossing.h): touching counts, as curve samples and
-/// vertices projected onto a flat stretch of the reference surface can line up exactly, and
-/// a wedge of label pinched to a point or a line is no better than one turned inside out.
-/// It reads a fold of two triangles
-/// sharing an edge from normals turned by almost 180 degrees: that holds for two triangles
-/// running along the edge in opposite directions, as within a consistently oriented patch.
-/// Every patch is oriented by its own label pair, so a triangle of another patch running
-/// along the edge the same way is turned around first. A triangle without area has no plane
-/// to test the other against, so it is passed second.
-bool
-trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t)
-{
-    CornerTriangle first = cornerTriangle(points, s, false);
-    CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
-    if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
-    return trianglesTouch(first, second);
-}
-
 using Pairs = TrianglePairs;
-
-/// Triangles around every point of @a mesh: around[first[v] .. first[v + 1]).
-void
-trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& first,
-                      std::vector<std::uint32_t>& around)
-{
-    first.assign(mesh.points.size() + 1, 0);
-    around.resize(3 * mesh.triangles.size());
-    for (const openvdb::Vec3I& t : mesh.triangles) {
-        for (int i = 0; i < 3; ++i) ++first[t[i] + 1];
-    }
-    for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-        for (int i = 0; i < 3; ++i) around[fill[mesh.triangles[f][i]]++] = f;
-    }
-}
 
 /// @brief The state of separatePatches(): the triangles around every point, the candidate
 /// grid, and where every point started.

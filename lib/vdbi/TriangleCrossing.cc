@@ -3,6 +3,7 @@
 #include <vdbi/TriangleCrossing.h>
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace vdbi {
@@ -268,6 +269,27 @@ crossesWithinBoxes(const CornerTriangle& s, const CornerTriangle& t)
     return meetWithinBoxes<false>(s, t);
 }
 
+/// Triangle @a t as trianglesTouch() takes it, turned around (two corners swapped) if @a flip.
+CornerTriangle
+cornerTriangle(const PointArray& points, const openvdb::Vec3I& t, bool flip)
+{
+    const int i = flip ? 2 : 1, j = flip ? 1 : 2;
+    return CornerTriangle(toPoint(points[t[0]]), toPoint(points[t[i]]), toPoint(points[t[j]]),
+                          int(t[0]), int(t[i]), int(t[j]));
+}
+
+/// Does @a t run along an edge of @a s in the same direction as @a s?
+bool
+runsAlongSameWay(const openvdb::Vec3I& s, const openvdb::Vec3I& t)
+{
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (s[i] == t[j] && s[(i + 1) % 3] == t[(j + 1) % 3]) return true;
+        }
+    }
+    return false;
+}
+
 } // namespace
 
 bool
@@ -397,6 +419,16 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
         if (fan[i].hasCorner(centre)) suspect[i] = 1;
     }
     return false;
+}
+
+
+bool
+trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t)
+{
+    CornerTriangle first = cornerTriangle(points, s, false);
+    CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
+    if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
+    return trianglesTouch(first, second);
 }
 
 } // namespace vdbi

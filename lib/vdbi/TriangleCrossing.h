@@ -53,6 +53,18 @@ bool trianglesCross(const CornerTriangle& s, const CornerTriangle& t);
 /// triangles without area are passed to trianglesCross().
 bool trianglesTouch(const CornerTriangle& s, const CornerTriangle& t);
 
+/// @brief Do triangles @a s and @a t of a mesh (corner indices into @a points) meet other
+/// than in the corners and edges they share?
+/// @details trianglesTouch(): touching counts, as curve samples and vertices projected onto
+/// a flat stretch of the reference surface can line up exactly, and a wedge of label pinched
+/// to a point or a line is no better than one turned inside out. It reads a fold of two
+/// triangles sharing an edge from normals turned by almost 180 degrees: that holds for two
+/// triangles running along the edge in opposite directions, as within a consistently
+/// oriented patch. Every patch is oriented by its own label pair, so a triangle of another
+/// patch running along the edge the same way is turned around first. A triangle without
+/// area has no plane to test the other against, so it is passed second.
+bool trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t);
+
 /// @brief Crossing pairs between @a changed and @a around plus those within @a changed.
 /// @param suspect   if given, only pairs with a flagged triangle of @a changed are tested
 /// @param embedded  the triangles of @a changed are known to meet each other only in the
