@@ -66,6 +66,25 @@ public:
         });
     }
 
+    /// @brief Calls @a body(g) for every triangle g whose box shares a cell with the box
+    /// [@a low, @a high], once per shared cell.
+    template<typename Body>
+    void forEachInBox(const openvdb::Vec3d& low, const openvdb::Vec3d& high, const Body& body) const
+    {
+        const openvdb::Vec3i lo = cellOf(low, mInverse), hi = cellOf(high, mInverse);
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+            for (int y = lo[1]; y <= hi[1]; ++y) {
+                for (int z = lo[2]; z <= hi[2]; ++z) {
+                    const std::uint64_t key = cellKey(openvdb::Vec3i(x, y, z));
+                    const auto cell = std::lower_bound(mCellKeys.begin(), mCellKeys.end(), key);
+                    if (cell == mCellKeys.end() || *cell != key) continue;
+                    const std::size_t c = std::size_t(cell - mCellKeys.begin());
+                    for (auto j = mCellStart[c]; j < mCellStart[c + 1]; ++j) body(mCellTriangles[j]);
+                }
+            }
+        }
+    }
+
     /// @brief Every pair (first < second) of triangles sharing a cell that @a meet accepts,
     /// once each, in the order of the cells.
     TrianglePairs allMeetingPairs(const MeetTest& meet, bool threaded) const;

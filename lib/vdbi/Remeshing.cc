@@ -5,6 +5,7 @@
 #include <vdbi/FeatureCurves.h>
 #include <vdbi/Interruption.h>
 #include <vdbi/IsotropicRemeshing.h>
+#include <vdbi/MeetingEdgeFlips.h>
 #include <vdbi/PatchBoundary.h>
 #include <vdbi/PatchSeparation.h>
 #include <vdbi/ReferenceSurface.h>
@@ -229,6 +230,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     if (splitMeetingTriangles(out, movable, start, meeting) > 0) {
         separateAround(out, movable, start, separation, firstNew);
     }
+    flipMeetingEdges(out, movable, separation.cellSize, separation.threaded);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;

@@ -70,6 +70,8 @@ struct RemeshStatistics
 /// 5. Where triangles of two patches sharing a label cross near their common curve (each
 ///    patch was remeshed without seeing the other), separatePatches() moves their inner
 ///    vertices apart along the normals, at most 0.4 voxel.
+/// 6. An inner edge of a triangle that still meets another is flipped where the other
+///    diagonal of its two triangles meets fewer (flipMeetingEdges()).
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.

@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/MeetingEdgeFlips.h>
+
+#include <vdbi/CandidateGrid.h>
+#include <vdbi/TriangleCrossing.h>
+
+#include <algorithm>
+#include <initializer_list>
+
+namespace vdbi {
+
+namespace {
+
+using Vec3d = openvdb::Vec3d;
+using Vec3I = openvdb::Vec3I;
+
+Vec3d
+normalOf(const PointArray& points, const Vec3I& t)
+{
+    return (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+}
+
+bool
+hasCorner(const Vec3I& t, std::uint32_t v)
+{
+    return t[0] == v || t[1] == v || t[2] == v;
+}
+
+/// Has triangle @a t no area to speak of (as IsotropicRemeshing's test)?
+bool
+isDegenerate(const PointArray& points, const Vec3I& t)
+{
+    const Vec3d &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+    const double longest2 =
+        std::max({(b - a).lengthSqr(), (c - b).lengthSqr(), (a - c).lengthSqr()});
+    return normalOf(points, t).lengthSqr() <= 1e-16 * longest2 * longest2;
+}
+
+/// The flip of one edge: triangles f = (a, b, c) and g = (b, a, d) become (a, d, c) and
+/// (d, b, c).
+struct Flip
+{
+    std::uint32_t f = 0, g = 0;
+    Vec3I newF, newG;
+    int gain = 0;   ///< meeting pairs freed
+};
+
+class EdgeFlipper
+{
+public:
+    EdgeFlipper(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
+                bool threaded)
+        : mMesh(mesh), mMovable(movable), mGrid(mesh, cellSize, 0.0, threaded)
+        , mPatchOf(mesh.triangles.size()), mChanged(mesh.points.size(), 0)
+    {
+        for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
+            const InterfacePatch& patch = mesh.patches[p];
+            std::fill_n(mPatchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
+        }
+        trianglesAroundPoints(mesh, mFirst, mAround);
+    }
+
+    std::size_t run(bool threaded)
+    {
+        const TrianglePairs pairs = mGrid.allMeetingPairs(
+            [this](std::uint32_t f, std::uint32_t g) {
+                return trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
+            },
+            threaded);
+        std::vector<std::uint32_t> meeting;
+        for (const auto& [f, g] : pairs) {
+            meeting.push_back(f);
+            meeting.push_back(g);
+        }
+        std::size_t flips = 0;
+        for (int pass = 0; pass < PASSES && !meeting.empty(); ++pass) {
+            std::sort(meeting.begin(), meeting.end());
+            meeting.erase(std::unique(meeting.begin(), meeting.end()), meeting.end());
+            const std::size_t flipsBefore = flips;
+            for (const std::uint32_t h : meeting) {
+                const Vec3I t = mMesh.triangles[h];
+                if (mChanged[t[0]] || mChanged[t[1]] || mChanged[t[2]]) continue;
+                Flip best;
+                for (int i = 0; i < 3; ++i) {
+                    Flip flip;
+                    if (makeFlip(h, i, flip) && flip.gain > best.gain) best = flip;
+                }
+                if (best.gain <= 0) continue;
+                for (const std::uint32_t f : {best.f, best.g}) {
+                    for (int k = 0; k < 3; ++k) mChanged[mMesh.triangles[f][k]] = 1;
+                    mFlipped.push_back(f);
+                }
+                mMesh.triangles[best.f] = best.newF;
+                mMesh.triangles[best.g] = best.newG;
+                ++flips;
+            }
+            if (flips == flipsBefore) break;
+            // The next pass: the triangles of this one and those flipped that still meet one.
+            trianglesAroundPoints(mMesh, mFirst, mAround);
+            std::fill(mChanged.begin(), mChanged.end(), 0);
+            meeting.insert(meeting.end(), mFlipped.begin(), mFlipped.end());
+            meeting.erase(std::remove_if(meeting.begin(), meeting.end(),
+                                         [&](std::uint32_t h) { return !meetsAny(h); }),
+                          meeting.end());
+        }
+        return flips;
+    }
+
+private:
+    /// The flip of edge (t[i], t[i + 1]) of triangle @a f, if it is allowed.
+    bool makeFlip(std::uint32_t f, int i, Flip& flip)
+    {
+        const Vec3I& t = mMesh.triangles[f];
+        const std::uint32_t a = t[i], b = t[(i + 1) % 3], c = t[(i + 2) % 3];
+        // The other triangle at the edge: the only one, of f's patch, along it the other way.
+        std::int64_t other = -1;
+        for (std::uint32_t k = mFirst[a]; k < mFirst[a + 1]; ++k) {
+            const std::uint32_t g = mAround[k];
+            if (g == f || !hasCorner(mMesh.triangles[g], b)) continue;
+            if (other >= 0 || mPatchOf[g] != mPatchOf[f]) return false;
+            other = g;
+        }
+        if (other < 0) return false;
+        const std::uint32_t g = std::uint32_t(other);
+        const Vec3I& u = mMesh.triangles[g];
+        int j = 0;
+        while (u[j] != b) ++j;
+        if (u[(j + 1) % 3] != a) return false;
+        const std::uint32_t d = u[(j + 2) % 3];
+        if (mChanged[d] || (!mMovable[c] && !mMovable[d])) return false;
+        for (std::uint32_t k = mFirst[c]; k < mFirst[c + 1]; ++k) {
+            if (hasCorner(mMesh.triangles[mAround[k]], d)) return false;   // an edge already
+        }
+        flip.f = f;
+        flip.g = g;
+        flip.newF = Vec3I(a, d, c);
+        flip.newG = Vec3I(d, b, c);
+        const PointArray& points = mMesh.points;
+        if (isDegenerate(points, flip.newF) || isDegenerate(points, flip.newG)) return false;
+        const Vec3d facing = normalOf(points, t) + normalOf(points, u);
+        if (!(normalOf(points, flip.newF).dot(facing) > 0.0)
+            || !(normalOf(points, flip.newG).dot(facing) > 0.0)) {
+            return false;
+        }
+
+        findCandidates({a, b, c, d});
+        int before = trianglesMeet(points, t, u), after = trianglesMeet(points, flip.newF, flip.newG);
+        for (const std::uint32_t x : mCandidates) {
+            if (x == f || x == g) continue;
+            const Vec3I& w = mMesh.triangles[x];
+            before += int(trianglesMeet(points, t, w)) + int(trianglesMeet(points, u, w));
+            after += int(trianglesMeet(points, flip.newF, w)) + int(trianglesMeet(points, flip.newG, w));
+        }
+        flip.gain = before - after;
+        return true;
+    }
+
+    /// @brief Every triangle that can meet one with the corners @a corners into mCandidates:
+    /// its box shares a cell with theirs, or a flip changed it (the grid has its old box).
+    void findCandidates(std::initializer_list<std::uint32_t> corners)
+    {
+        const PointArray& points = mMesh.points;
+        Vec3d low = points[*corners.begin()], high = low;
+        for (const std::uint32_t v : corners) {
+            low = openvdb::math::minComponent(low, points[v]);
+            high = openvdb::math::maxComponent(high, points[v]);
+        }
+        mCandidates.assign(mFlipped.begin(), mFlipped.end());
+        mGrid.forEachInBox(low, high, [&](std::uint32_t x) { mCandidates.push_back(x); });
+        std::sort(mCandidates.begin(), mCandidates.end());
+        mCandidates.erase(std::unique(mCandidates.begin(), mCandidates.end()), mCandidates.end());
+    }
+
+    /// Does triangle @a h meet any other?
+    bool meetsAny(std::uint32_t h)
+    {
+        const Vec3I& t = mMesh.triangles[h];
+        findCandidates({t[0], t[1], t[2]});
+        for (const std::uint32_t x : mCandidates) {
+            if (x != h && trianglesMeet(mMesh.points, t, mMesh.triangles[x])) return true;
+        }
+        return false;
+    }
+
+    /// Passes over the meeting triangles: a flip lets the triangles around its corners wait
+    /// for the next (frog at 2 voxels: 29, 7, 3, 1 flips).
+    static constexpr int PASSES = 8;
+
+    InterfaceMesh& mMesh;
+    const std::vector<std::uint8_t>& mMovable;
+    const CandidateGrid mGrid;
+    std::vector<std::uint32_t> mPatchOf;
+    /// Triangles around every point (as before any flip): mAround[mFirst[v] .. mFirst[v + 1]).
+    std::vector<std::uint32_t> mFirst, mAround;
+    /// Points at a corner of a flipped pair: their triangles are no longer mAround's.
+    std::vector<char> mChanged;
+    std::vector<std::uint32_t> mFlipped, mCandidates;
+};
+
+} // namespace
+
+
+std::size_t
+flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
+                 bool threaded)
+{
+    return EdgeFlipper(mesh, movable, cellSize, threaded).run(threaded);
+}
+
+} // namespace vdbi

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file TestMeetingEdgeFlips.cc
+/// @brief flipMeetingEdges() on hand-made patches, judged by the independent intersection
+/// checker (support/MeshIntersections.h), and by the triangles it leaves.
+
+#include "support/MeshIntersections.h"
+
+#include <vdbi/MeetingEdgeFlips.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <set>
+#include <utility>
+#include <vector>
+
+using openvdb::Vec3d;
+using openvdb::Vec3I;
+
+namespace {
+
+std::set<std::pair<std::uint32_t, std::uint32_t>>
+intersectingPairs(const vdbi::InterfaceMesh& mesh)
+{
+    std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (const auto& x : vdbi_test::findSelfIntersections(mesh, 1.0, std::size_t(-1))) {
+        pairs.insert({x.first, x.second});
+    }
+    return pairs;
+}
+
+/// Patch (1, 2): a ridge of two triangles (0, 1, 2) and (1, 0, 3) along its edge 0-1 at
+/// z = 1, down to corners 2 and 3 at z = 0; patch (3, 4): a flat triangle at z = 0.8 across
+/// the ridge, which crosses both. With the other diagonal 2-3 the pair is a valley, under it.
+vdbi::InterfaceMesh
+ridgeUnderTriangle()
+{
+    vdbi::InterfaceMesh mesh;
+    mesh.points = {Vec3d(0, 0, 1),       Vec3d(2, 2, 1),       Vec3d(2, 0, 0),
+                   Vec3d(0, 2, 0),       Vec3d(1.4, 0.8, 0.8), Vec3d(0.8, 1.4, 0.8),
+                   Vec3d(0.8, 0.8, 0.8)};
+    mesh.triangles = {Vec3I(0, 1, 2), Vec3I(1, 0, 3), Vec3I(4, 5, 6)};
+    vdbi::InterfacePatch ridge, flat;
+    ridge.a = 1;
+    ridge.b = 2;
+    ridge.triangleCount = 2;
+    flat.a = 3;
+    flat.b = 4;
+    flat.firstTriangle = 2;
+    flat.triangleCount = 1;
+    mesh.patches = {ridge, flat};
+    return mesh;
+}
+
+} // namespace
+
+TEST(TestMeetingEdgeFlips, testFlipGoesRound)
+{
+    vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
+    ASSERT_EQ(intersectingPairs(mesh),
+              (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 2}, {1, 2}}));
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0};
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 1u);
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+    // The same points, the other diagonal, both triangles still facing down.
+    EXPECT_EQ(mesh.triangles[0], Vec3I(0, 3, 2));
+    EXPECT_EQ(mesh.triangles[1], Vec3I(3, 1, 2));
+    EXPECT_EQ(mesh.points, ridgeUnderTriangle().points);
+}
+
+TEST(TestMeetingEdgeFlips, testNoDiagonalBetweenLockedPoints)
+{
+    // Another patch on the same curves could make the edge 2-3 too.
+    vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
+    const std::vector<std::uint8_t> movable = {1, 1, 0, 0, 0, 0, 0};
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 0u);
+    EXPECT_EQ(mesh.triangles, ridgeUnderTriangle().triangles);
+}
+
+TEST(TestMeetingEdgeFlips, testNoFlipOfCurveSegment)
+{
+    // Triangle 1 in a patch of its own, (1, 3): edge 0-1 is a segment of the curve between
+    // the two patches, never flipped.
+    vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
+    vdbi::InterfacePatch side = mesh.patches[0];
+    mesh.patches[0].triangleCount = 1;
+    side.b = 3;
+    side.firstTriangle = 1;
+    side.triangleCount = 1;
+    mesh.patches.insert(mesh.patches.begin() + 1, side);
+    ASSERT_EQ(intersectingPairs(mesh).size(), 2u);
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0};
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 0u);
+    EXPECT_EQ(mesh.triangles, ridgeUnderTriangle().triangles);
+}
+
+TEST(TestMeetingEdgeFlips, testNoFlipThatMeetsMore)
+{
+    // The flat triangle low, at z = 0.15: the valley would cross it, the ridge does not.
+    vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
+    for (int i = 4; i < 7; ++i) mesh.points[i][2] = 0.15;
+    // A second triangle of patch (3, 4) crossing the ridge near corner 0 keeps triangles 0
+    // and 1 meeting one.
+    ASSERT_TRUE(intersectingPairs(mesh).empty());
+    mesh.points.push_back(Vec3d(0.2, 0.2, 1.5));
+    mesh.points.push_back(Vec3d(0.5, 0.1, 0.5));
+    mesh.points.push_back(Vec3d(0.1, 0.5, 0.5));
+    mesh.triangles.push_back(Vec3I(7, 8, 9));
+    mesh.patches[1].triangleCount = 2;
+    ASSERT_FALSE(intersectingPairs(mesh).empty());
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0, 0, 0, 0};
+    const vdbi::TriangleArray before = mesh.triangles;
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 0u);
+    EXPECT_EQ(mesh.triangles, before);
+}
