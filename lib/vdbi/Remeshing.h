@@ -41,7 +41,7 @@ struct RemeshStatistics
     double curveSeconds = 0.0;       ///< feature curves found, smoothed and resampled
     double referenceSeconds = 0.0;   ///< the reference surfaces of all patches
     double remeshingSeconds = 0.0;   ///< boundaries attached, rounds, output assembled
-    double separationSeconds = 0.0;  ///< crossing patches pushed apart (separatePatches())
+    double separationSeconds = 0.0;  ///< crossing patches pushed apart, edges flipped
 };
 
 /// @brief Remeshes every patch to the target edge length, keeping every guarantee of the
