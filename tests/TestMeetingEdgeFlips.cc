@@ -3,6 +3,7 @@
 /// @brief flipMeetingEdges() on hand-made patches, judged by the independent intersection
 /// checker (support/MeshIntersections.h), and by the triangles it leaves.
 
+#include "support/HandMadeMeshes.h"
 #include "support/MeshIntersections.h"
 
 #include <vdbi/MeetingEdgeFlips.h>
@@ -19,15 +20,7 @@ using openvdb::Vec3I;
 
 namespace {
 
-std::set<std::pair<std::uint32_t, std::uint32_t>>
-intersectingPairs(const vdbi::InterfaceMesh& mesh)
-{
-    std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    for (const auto& x : vdbi_test::findSelfIntersections(mesh, 1.0, std::size_t(-1))) {
-        pairs.insert({x.first, x.second});
-    }
-    return pairs;
-}
+using vdbi_test::intersectingPairs;
 
 /// Patch (1, 2): a ridge of two triangles (0, 1, 2) and (1, 0, 3) along its edge 0-1 at
 /// z = 1, down to corners 2 and 3 at z = 0; patch (3, 4): a flat triangle at z = 0.8 across
@@ -35,21 +28,10 @@ intersectingPairs(const vdbi::InterfaceMesh& mesh)
 vdbi::InterfaceMesh
 ridgeUnderTriangle()
 {
-    vdbi::InterfaceMesh mesh;
-    mesh.points = {Vec3d(0, 0, 1),       Vec3d(2, 2, 1),       Vec3d(2, 0, 0),
-                   Vec3d(0, 2, 0),       Vec3d(1.4, 0.8, 0.8), Vec3d(0.8, 1.4, 0.8),
-                   Vec3d(0.8, 0.8, 0.8)};
-    mesh.triangles = {Vec3I(0, 1, 2), Vec3I(1, 0, 3), Vec3I(4, 5, 6)};
-    vdbi::InterfacePatch ridge, flat;
-    ridge.a = 1;
-    ridge.b = 2;
-    ridge.triangleCount = 2;
-    flat.a = 3;
-    flat.b = 4;
-    flat.firstTriangle = 2;
-    flat.triangleCount = 1;
-    mesh.patches = {ridge, flat};
-    return mesh;
+    return vdbi_test::makeMesh(
+        {Vec3d(0, 0, 1), Vec3d(2, 2, 1), Vec3d(2, 0, 0), Vec3d(0, 2, 0), Vec3d(1.4, 0.8, 0.8),
+         Vec3d(0.8, 1.4, 0.8), Vec3d(0.8, 0.8, 0.8)},
+        {{1, 2, {Vec3I(0, 1, 2), Vec3I(1, 0, 3)}}, {3, 4, {Vec3I(4, 5, 6)}}});
 }
 
 } // namespace

@@ -3,6 +3,7 @@
 /// @brief separatePatches() on hand-made patches, judged by the independent intersection
 /// checker (support/MeshIntersections.h): pairs it must resolve, and crossings it must not make.
 
+#include "support/HandMadeMeshes.h"
 #include "support/MeshIntersections.h"
 
 #include <vdbi/PatchSeparation.h>
@@ -24,39 +25,9 @@ class TestPatchSeparation : public ::testing::Test
 
 namespace {
 
-/// One patch (a, b) of consecutive triangles.
-struct PatchSpec
-{
-    vdbi::Label a, b;
-    std::vector<Vec3I> triangles;
-};
-
-vdbi::InterfaceMesh
-makeMesh(const std::vector<Vec3d>& points, const std::vector<PatchSpec>& patches)
-{
-    vdbi::InterfaceMesh mesh;
-    mesh.points.assign(points.begin(), points.end());
-    for (const PatchSpec& spec : patches) {
-        vdbi::InterfacePatch patch;
-        patch.a = spec.a;
-        patch.b = spec.b;
-        patch.firstTriangle = mesh.triangles.size();
-        patch.triangleCount = spec.triangles.size();
-        mesh.triangles.insert(mesh.triangles.end(), spec.triangles.begin(), spec.triangles.end());
-        mesh.patches.push_back(patch);
-    }
-    return mesh;
-}
-
-std::set<std::pair<std::uint32_t, std::uint32_t>>
-intersectingPairs(const vdbi::InterfaceMesh& mesh)
-{
-    std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    for (const auto& x : vdbi_test::findSelfIntersections(mesh, 1.0, std::size_t(-1))) {
-        pairs.insert({x.first, x.second});
-    }
-    return pairs;
-}
+using vdbi_test::intersectingPairs;
+using vdbi_test::makeMesh;
+using vdbi_test::PatchSpec;
 
 Vec3d
 normalOf(const vdbi::InterfaceMesh& mesh, std::size_t t)

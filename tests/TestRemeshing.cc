@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 
+#include "support/HandMadeMeshes.h"
 #include "support/MeshChecker.h"
 #include "support/MeshIntersections.h"
 #include "support/MeshQuality.h"
@@ -506,20 +507,10 @@ TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 // corner moves farther than the limit, no triangle turns over.
 TEST_F(TestRemeshing, testSeparatePatches)
 {
-    vdbi::InterfaceMesh mesh;
-    mesh.points = {Vec3d(0, 0, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0),      // (0, 1): label 1 above
-                   Vec3d(0.8, -1, 0.3), Vec3d(0.8, 1, -0.3)};           // (1, 2): label 1 below
-    mesh.triangles = {openvdb::Vec3I(0, 1, 2), openvdb::Vec3I(0, 3, 4)};
-    vdbi::InterfacePatch p01, p12;
-    p01.a = 0;
-    p01.b = 1;
-    p01.firstTriangle = 0;
-    p01.triangleCount = 1;
-    p12.a = 1;
-    p12.b = 2;
-    p12.firstTriangle = 1;
-    p12.triangleCount = 1;
-    mesh.patches = {p01, p12};
+    vdbi::InterfaceMesh mesh = vdbi_test::makeMesh(
+        {Vec3d(0, 0, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0),         // (0, 1): label 1 above
+         Vec3d(0.8, -1, 0.3), Vec3d(0.8, 1, -0.3)},               // (1, 2): label 1 below
+        {{0, 1, {openvdb::Vec3I(0, 1, 2)}}, {1, 2, {openvdb::Vec3I(0, 3, 4)}}});
     ASSERT_TRUE(vdbi_test::trianglesIntersect(mesh.points, mesh.triangles[0], mesh.triangles[1]));
 
     const vdbi::InterfaceMesh before = mesh;

@@ -399,4 +399,15 @@ measureCloseness(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
     return result;
 }
 
+
+std::set<std::pair<std::uint32_t, std::uint32_t>>
+intersectingPairs(const vdbi::InterfaceMesh& mesh, double cellSize)
+{
+    std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (const Intersection& x : findSelfIntersections(mesh, cellSize, std::size_t(-1))) {
+        pairs.insert({x.first, x.second});
+    }
+    return pairs;
+}
+
 } // namespace vdbi_test

@@ -14,7 +14,9 @@
 #include <openvdb/Types.h>
 
 #include <cstdint>
+#include <set>
 #include <string>
+#include <utility>
 #include <unordered_map>
 #include <vector>
 
@@ -72,6 +74,10 @@ struct Intersection
 /// @param limit     stop after this many
 std::vector<Intersection> findSelfIntersections(const vdbi::InterfaceMesh& mesh,
                                                 double cellSize, std::size_t limit = 100);
+
+/// Every intersecting pair of findSelfIntersections() (no limit), as a set.
+std::set<std::pair<std::uint32_t, std::uint32_t>> intersectingPairs(
+    const vdbi::InterfaceMesh& mesh, double cellSize = 1.0);
 
 /// "" when there is no intersection, else a readable description of the first few.
 std::string describeIntersections(const vdbi::InterfaceMesh& mesh,
