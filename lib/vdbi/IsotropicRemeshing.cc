@@ -40,15 +40,6 @@ smallestAngleCos(const Point& a, const Point& b, const Point& c)
     return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});
 }
 
-/// Has triangle (a, b, c) no area to speak of (a corner on the line through the others, as a
-/// split's midpoint is)? Its normal is noise: no fold test can judge it.
-inline bool
-isDegenerate(const Point& a, const Point& b, const Point& c)
-{
-    const double longest2 = std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()});
-    return ((b - a) % (c - a)).sqrnorm() <= 1e-16 * longest2 * longest2;
-}
-
 /// The two triangles at an inner edge: the edge p0 -> p1 (halfedge 0), pc the corner
 /// opposite it on halfedge 0's side, pd on the other.
 struct EdgeDiamond
@@ -423,7 +414,7 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
                 mUnchangedTriangles.push_back({p[0], p[1], p[2]});
                 continue;
             }
-            if (isDegenerate(p[0], p[1], p[2])) return false;
+            if (hasNoArea(p[0], p[1], p[2])) return false;
             mFaces.push_back(f);
             mTriangles.push_back({p[0], p[1], p[2]});
             if (!agrees(f)) continue;   // was folded already: may unfold
@@ -512,7 +503,7 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     // Faces (v0, v1, c), (v1, v0, d) become (v0, d, c), (d, v1, c): neither may fold over.
     const Point &p0 = mMesh.point(v0), &p1 = mMesh.point(v1), &pc = mMesh.point(c),
                 &pd = mMesh.point(d);
-    if (isDegenerate(p0, pd, pc) || isDegenerate(pd, p1, pc)) return false;
+    if (hasNoArea(p0, pd, pc) || hasNoArea(pd, p1, pc)) return false;
     const int before = int(agrees(p0, p1, pc, v0, v1, c)) + int(agrees(p1, p0, pd, v1, v0, d));
     const int after = int(agrees(p0, pd, pc, v0, d, c)) + int(agrees(pd, p1, pc, d, v1, c));
     if (after < before || (before == 2 && after < 2)) return false;

@@ -27,14 +27,11 @@ hasCorner(const Vec3I& t, std::uint32_t v)
     return t[0] == v || t[1] == v || t[2] == v;
 }
 
-/// Has triangle @a t no area to speak of (as IsotropicRemeshing's test)?
+/// Has triangle @a t no area to speak of (hasNoArea())?
 bool
-isDegenerate(const PointArray& points, const Vec3I& t)
+triangleHasNoArea(const PointArray& points, const Vec3I& t)
 {
-    const Vec3d &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
-    const double longest2 =
-        std::max({(b - a).lengthSqr(), (c - b).lengthSqr(), (a - c).lengthSqr()});
-    return normalOf(points, t).lengthSqr() <= 1e-16 * longest2 * longest2;
+    return hasNoArea(toPoint(points[t[0]]), toPoint(points[t[1]]), toPoint(points[t[2]]));
 }
 
 /// The flip of one edge: triangles f = (a, b, c) and g = (b, a, d) become (a, d, c) and
@@ -137,7 +134,9 @@ private:
         flip.newF = Vec3I(a, d, c);
         flip.newG = Vec3I(d, b, c);
         const PointArray& points = mMesh.points;
-        if (isDegenerate(points, flip.newF) || isDegenerate(points, flip.newG)) return false;
+        if (triangleHasNoArea(points, flip.newF) || triangleHasNoArea(points, flip.newG)) {
+            return false;
+        }
         const Vec3d facing = normalOf(points, t) + normalOf(points, u);
         if (!(normalOf(points, flip.newF).dot(facing) > 0.0)
             || !(normalOf(points, flip.newG).dot(facing) > 0.0)) {

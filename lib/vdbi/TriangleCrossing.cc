@@ -2,6 +2,7 @@
 
 #include <vdbi/TriangleCrossing.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -429,6 +430,14 @@ trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::
     CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
     if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
     return trianglesTouch(first, second);
+}
+
+
+bool
+hasNoArea(const Point& a, const Point& b, const Point& c)
+{
+    const double longest2 = std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()});
+    return ((b - a) % (c - a)).sqrnorm() <= 1e-16 * longest2 * longest2;
 }
 
 } // namespace vdbi

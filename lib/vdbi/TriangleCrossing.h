@@ -39,6 +39,11 @@ struct CornerTriangle
     bool hasCorner(int i) const { return id[0] == i || id[1] == i || id[2] == i; }
 };
 
+/// Has triangle (a, b, c) no area to speak of (a corner on the line through the others, as a
+/// split's midpoint is)? Its normal is noise: no fold or crossing test can judge it.
+bool hasNoArea(const CornerTriangle::Point& a, const CornerTriangle::Point& b,
+               const CornerTriangle::Point& c);
+
 /// @brief Do @a s and @a t have a common point other than the corners and edge they share?
 /// @details Sharing an edge, they cross when they fold onto each other (their normals turn by
 /// more than 175 degrees: a knife edge of a one-voxel fin turns less); sharing a corner, when
