@@ -84,10 +84,22 @@ struct InterfaceMesh
     std::vector<std::array<Label, 2>> triangleLabels() const;
 };
 
+/// The index of the patch of every triangle of @a mesh.
+std::vector<std::uint32_t> trianglePatches(const InterfaceMesh& mesh);
+
 /// @brief The triangles around every point of @a mesh: around[first[v] .. first[v + 1]),
 /// ascending.
 void trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& first,
                            std::vector<std::uint32_t>& around);
+
+/// @brief The triangle across edge (@a u, @a v) of triangle @a f if the edge is inner to f's
+/// patch: the only other triangle with that edge, of the same patch (@a patchOf, from
+/// trianglePatches()), running along it the other way. -1 for a feature curve segment (in
+/// several patches) or a patch boundary. @a first and @a around: trianglesAroundPoints().
+std::int64_t triangleAcross(const InterfaceMesh& mesh, const std::vector<std::uint32_t>& first,
+                            const std::vector<std::uint32_t>& around,
+                            const std::vector<std::uint32_t>& patchOf, std::uint32_t f,
+                            std::uint32_t u, std::uint32_t v);
 
 } // namespace vdbi
 

@@ -49,12 +49,8 @@ public:
     EdgeFlipper(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
                 bool threaded)
         : mMesh(mesh), mMovable(movable), mGrid(mesh, cellSize, 0.0, threaded)
-        , mPatchOf(mesh.triangles.size()), mChanged(mesh.points.size(), 0)
+        , mPatchOf(trianglePatches(mesh)), mChanged(mesh.points.size(), 0)
     {
-        for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
-            const InterfacePatch& patch = mesh.patches[p];
-            std::fill_n(mPatchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
-        }
         trianglesAroundPoints(mesh, mFirst, mAround);
     }
 
@@ -110,21 +106,11 @@ private:
     {
         const Vec3I& t = mMesh.triangles[f];
         const std::uint32_t a = t[i], b = t[(i + 1) % 3], c = t[(i + 2) % 3];
-        // The other triangle at the edge: the only one, of f's patch, along it the other way.
-        std::int64_t other = -1;
-        for (std::uint32_t k = mFirst[a]; k < mFirst[a + 1]; ++k) {
-            const std::uint32_t g = mAround[k];
-            if (g == f || !hasCorner(mMesh.triangles[g], b)) continue;
-            if (other >= 0 || mPatchOf[g] != mPatchOf[f]) return false;
-            other = g;
-        }
+        const std::int64_t other = triangleAcross(mMesh, mFirst, mAround, mPatchOf, f, a, b);
         if (other < 0) return false;
         const std::uint32_t g = std::uint32_t(other);
         const Vec3I& u = mMesh.triangles[g];
-        int j = 0;
-        while (u[j] != b) ++j;
-        if (u[(j + 1) % 3] != a) return false;
-        const std::uint32_t d = u[(j + 2) % 3];
+        const std::uint32_t d = u[0] != a && u[0] != b ? u[0] : u[1] != a && u[1] != b ? u[1] : u[2];
         if (mChanged[d] || (!mMovable[c] && !mMovable[d])) return false;
         for (std::uint32_t k = mFirst[c]; k < mFirst[c + 1]; ++k) {
             if (hasCorner(mMesh.triangles[mAround[k]], d)) return false;   // an edge already

@@ -47,13 +47,9 @@ public:
         : mMesh(mesh), mMovable(movable), mSettings(settings)
         , mOwnOrigin(start ? PointArray() : mesh.points)
         , mOrigin(start ? *start : mOwnOrigin)
-        , mPatchOf(mesh.triangles.size())
+        , mPatchOf(trianglePatches(mesh))
         , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
     {
-        for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
-            const InterfacePatch& patch = mesh.patches[p];
-            std::fill_n(mPatchOf.begin() + patch.firstTriangle, patch.triangleCount, p);
-        }
         trianglesAroundPoints(mesh, mStart, mAround);
     }
 
@@ -450,43 +446,12 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
     meeting.erase(std::unique(meeting.begin(), meeting.end()), meeting.end());
 
     const std::size_t triangleCount = mesh.triangles.size();
-    auto patchOf = [&](std::uint32_t f) {
-        return std::upper_bound(mesh.patches.begin(), mesh.patches.end(), std::size_t(f),
-                                [](std::size_t g, const InterfacePatch& patch) {
-                                    return g < patch.firstTriangle;
-                                }) - mesh.patches.begin() - 1;
-    };
-    // The triangles around the corners of those, as (corner, triangle), ascending: one pass
-    // over the triangles instead of the triangles around every point.
-    std::vector<char> corner(mesh.points.size(), 0);
-    for (const std::uint32_t f : meeting) {
-        for (int i = 0; i < 3; ++i) corner[mesh.triangles[f][i]] = 1;
-    }
-    Pairs around;
-    for (std::uint32_t f = 0; f < triangleCount; ++f) {
-        const openvdb::Vec3I& t = mesh.triangles[f];
-        for (int i = 0; i < 3; ++i) {
-            if (corner[t[i]]) around.emplace_back(t[i], f);
-        }
-    }
-    std::sort(around.begin(), around.end());
-    // The triangle across edge (u, v) of triangle f if the edge is inner: it is the only
-    // other triangle with that edge, of f's patch, running along it the other way. A feature
-    // curve segment is in several patches and stays as it is.
-    auto across = [&](std::uint32_t f, std::uint32_t u, std::uint32_t v) -> std::int64_t {
-        std::int64_t other = -1;
-        for (auto i = std::lower_bound(around.begin(), around.end(), std::make_pair(u, 0u));
-             i != around.end() && i->first == u; ++i) {
-            const std::uint32_t g = i->second;
-            const openvdb::Vec3I& t = mesh.triangles[g];
-            if (g == f || (t[0] != v && t[1] != v && t[2] != v)) continue;
-            if (other >= 0 || patchOf(g) != patchOf(f)) return -1;
-            const bool reversed = (t[0] == v && t[1] == u) || (t[1] == v && t[2] == u)
-                || (t[2] == v && t[0] == u);
-            if (!reversed) return -1;
-            other = g;
-        }
-        return other;
+    const std::vector<std::uint32_t> patchOf = trianglePatches(mesh);
+    std::vector<std::uint32_t> first, around;
+    trianglesAroundPoints(mesh, first, around);
+    // The triangle across an inner edge; a feature curve segment stays as it is.
+    auto across = [&](std::uint32_t f, std::uint32_t u, std::uint32_t v) {
+        return triangleAcross(mesh, first, around, patchOf, f, u, v);
     };
 
     // Every meeting triangle not changed yet in this call splits its longest inner edge whose
@@ -525,8 +490,8 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
         movable.push_back(1);
         mesh.triangles[f] = openvdb::Vec3I(a, m, c);
         mesh.triangles[g] = openvdb::Vec3I(b, m, d);
-        added[patchOf(f)].emplace_back(m, b, c);
-        added[patchOf(f)].emplace_back(m, a, d);
+        added[patchOf[f]].emplace_back(m, b, c);
+        added[patchOf[f]].emplace_back(m, a, d);
         changed[f] = changed[g] = 1;
         ++splits;
     }
