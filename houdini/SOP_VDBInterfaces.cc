@@ -261,12 +261,12 @@ newSopOperator(OP_OperatorTable* table)
             " is used; other VDB types are ignored."));
 
     parms.add(hutil::ParmFactory(PRM_TOGGLE, "remesh", "Remesh")
-        .setDefault(PRMzeroDefaults)
+        .setDefault(PRMoneDefaults)
         .setTooltip("Remesh the patches towards Edge Length.")
         .setDocumentation(
             "Remesh the interface patches towards a target edge length, keeping the curves"
-            " where patches meet. Off (the default, as in the command-line tool) gives the raw"
-            " extraction: the voxel faces, exact and much faster to cook."));
+            " where patches meet (on by default, as in the command-line tool). Off gives the"
+            " raw extraction: the voxel faces, exact and much faster to cook."));
 
     parms.add(hutil::ParmFactory(PRM_FLT_J, "edgelength", "Edge Length")
         .setDefault(0.0)

@@ -227,22 +227,22 @@ jsonCount(const std::string& report, const std::string& key)
     return at == std::string::npos ? 0 : std::stoul(report.substr(at + key.size() + 4));
 }
 
-TEST_F(TestCli, testRemeshingOnRequest)
+TEST_F(TestCli, testRemeshingByDefault)
 {
-    ASSERT_EQ(run({mKnight, "--report", "raw.json"}).status, 0);
-    ASSERT_EQ(run({mKnight, "--report", "kept.json", "--no-remesh"}).status, 0);
-    ASSERT_EQ(run({mKnight, "--report", "remeshed.json", "--remesh"}).status, 0);
-    ASSERT_EQ(run({mKnight, "--report", "coarse.json", "--remesh", "--edge-length", "3"}).status,
-        0);
+    ASSERT_EQ(run({mKnight, "--report", "default.json", "-o", "default.ply"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "remeshed.json", "--remesh", "-o", "remeshed.ply"})
+                  .status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "raw.json", "--no-remesh"}).status, 0);
+    ASSERT_EQ(run({mKnight, "--report", "coarse.json", "--edge-length", "3"}).status, 0);
     const std::string raw = readAll(work("raw.json"));
-    const std::string kept = readAll(work("kept.json"));
     const std::string remeshed = readAll(work("remeshed.json"));
     const std::string coarse = readAll(work("coarse.json"));
     EXPECT_FALSE(contains(raw, "\"name\": \"remeshing\""));
-    EXPECT_FALSE(contains(kept, "\"name\": \"remeshing\""));
+    EXPECT_TRUE(contains(readAll(work("default.json")), "\"name\": \"remeshing\""));
     EXPECT_TRUE(contains(remeshed, "\"name\": \"remeshing\""));
     EXPECT_TRUE(contains(coarse, "\"name\": \"remeshing\""));
-    EXPECT_EQ(jsonCount(kept, "triangles"), jsonCount(raw, "triangles"));
+    // --remesh says what the default does.
+    EXPECT_TRUE(readAll(work("default.ply")) == readAll(work("remeshed.ply")));
     // Same repair, so the same patches; a longer target edge gives fewer triangles.
     EXPECT_EQ(jsonCount(remeshed, "patches"), jsonCount(raw, "patches"));
     EXPECT_EQ(jsonCount(coarse, "patches"), jsonCount(raw, "patches"));
@@ -308,7 +308,7 @@ TEST_F(TestCli, testOptionsAccepted)
 {
     // Every option with a valid value.
     const CliResult r = run({"--priority", "1,2", mKnight, "--separate", "1,2:3", "--separate",
-        "4,5:6", "--edge-length", "0.5", "--iterations", "3", "--no-remesh", "--threads", "2",
+        "4,5:6", "--edge-length", "2", "--iterations", "3", "--remesh", "--threads", "2",
         "-o", "out.ply"});
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(work("out.ply")));

@@ -18,6 +18,7 @@
 #include "support/HandMadeGrids.h"
 #include "support/MeshChecker.h"
 #include "support/RandomVolumes.h"
+#include "support/RawExtraction.h"
 #include "support/RefinedChecker.h"
 #include "support/SeparationChecker.h"
 #include "support/TestData.h"
@@ -542,10 +543,10 @@ TEST_F(TestConstraints, testThreadsGiveIdenticalResults)
         const auto a = repair(labels, serial.repair);
         const auto b = repair(labels, threaded.repair);
         EXPECT_EQ(compareRepairs(a, b), "");
-        const vdbi::Result ra = vdbi::extractInterfaces(*v.grid, serial);
+        const vdbi::Result ra = vdbi_test::extractRaw(*v.grid, serial);
         vdbi::Result rb;
-        tbb::task_arena(1).execute([&] { rb = vdbi::extractInterfaces(*v.grid, threaded); });
-        const vdbi::Result rc = vdbi::extractInterfaces(*v.grid, threaded);
+        tbb::task_arena(1).execute([&] { rb = vdbi_test::extractRaw(*v.grid, threaded); });
+        const vdbi::Result rc = vdbi_test::extractRaw(*v.grid, threaded);
         EXPECT_EQ(vdbi_test::compareMeshes(ra.mesh, rb.mesh), "");
         EXPECT_EQ(vdbi_test::compareMeshes(ra.mesh, rc.mesh), "");
         separatedFaces += ra.statistics.criticalFaces;
@@ -559,7 +560,7 @@ TEST_F(TestConstraints, testAbsentLabelsAreAllowed)
     vdbi::Options options;
     options.repair.constraints = {{100, 200, 300}};
     const auto grid = vdbi_test::randomVolume(vdbi_test::Generator::Noise, 3, 5, 3);
-    const auto r = vdbi::extractInterfaces(*grid, options);
+    const auto r = vdbi_test::extractRaw(*grid, options);
     EXPECT_EQ(r.statistics.criticalFaces, 0u);
     EXPECT_EQ(r.statistics.subdivision, 7);
 }

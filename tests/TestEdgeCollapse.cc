@@ -5,6 +5,7 @@
 #include <vdbi/PatchMeshes.h>
 
 #include "support/RandomVolumes.h"
+#include "support/RawExtraction.h"
 
 #include <gtest/gtest.h>
 
@@ -66,7 +67,7 @@ randomPatchMeshes(std::uint64_t seed)
 {
     std::vector<TriMesh> meshes;
     for (const auto g : vdbi_test::allGenerators()) {
-        const auto result = vdbi::extractInterfaces(
+        const auto result = vdbi_test::extractRaw(
             *vdbi_test::randomVolume(g, seed, 8, 2 + int(seed % 4)));
         for (auto& pm : vdbi::toPatchMeshes(result.mesh)) meshes.push_back(std::move(pm.mesh));
     }

@@ -9,6 +9,7 @@
 #include "support/HandMadeGrids.h"
 #include "support/MeshChecker.h"
 #include "support/RandomVolumes.h"
+#include "support/RawExtraction.h"
 #include "support/RefinedChecker.h"
 #include "support/TestData.h"
 
@@ -168,7 +169,7 @@ TEST_F(TestExtractionProperties, testHandMadeGridsExactly)
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.name);
-        const vdbi::Result result = vdbi::extractInterfaces(*c.grid);
+        const vdbi::Result result = vdbi_test::extractRaw(*c.grid);
         const vdbi::InterfaceMesh& mesh = result.mesh;
         EXPECT_EQ(mesh.patches.size(), c.patches);
         EXPECT_EQ(mesh.triangleCount(), c.triangles);
@@ -188,7 +189,7 @@ TEST_F(TestExtractionProperties, testHandMadeGridsExactly)
     // Where nothing is critical the output is the plain face extraction.
     for (const auto& c : vdbi_test::handMadeCases()) {
         if (c.criticalEdges + c.criticalVertices > 0) continue;
-        const vdbi::InterfaceMesh mesh = vdbi::extractInterfaces(*c.grid).mesh;
+        const vdbi::InterfaceMesh mesh = vdbi_test::extractRaw(*c.grid).mesh;
         EXPECT_EQ(vdbi_test::compareWithPlainFaces(mesh, *c.grid), "") << c.name;
     }
     // The repaired checkerboard and the tile grid have no simple hand count; they must still
@@ -197,7 +198,7 @@ TEST_F(TestExtractionProperties, testHandMadeGridsExactly)
         const PipelineRun r = run(*grid);
         const auto report = vdbi_test::checkMesh(r.mesh);
         EXPECT_EQ(verify(r, report), "");
-        EXPECT_EQ(vdbi_test::compareMeshes(r.mesh, vdbi::extractInterfaces(*grid).mesh), "");
+        EXPECT_EQ(vdbi_test::compareMeshes(r.mesh, vdbi_test::extractRaw(*grid).mesh), "");
     }
 }
 
@@ -260,7 +261,7 @@ TEST_F(TestExtractionProperties, testMengerSpongeIsPlainFaceExtraction)
     // surface's Euler characteristic is twice that of the voxel set (V - E + F - C of the
     // cubical complex, counted independently).
     const auto grid = vdbi::readLabelVolume(vdbi_test::dataPath("menger.vox"));
-    const vdbi::Result result = vdbi::extractInterfaces(*grid);
+    const vdbi::Result result = vdbi_test::extractRaw(*grid);
     EXPECT_EQ(result.statistics.criticalEdges + result.statistics.criticalVertices, 0u);
     EXPECT_EQ(vdbi_test::compareWithPlainFaces(result.mesh, *grid), "");
     const auto faces = vdbi_test::interfaceFacesPerPair(*grid);
@@ -333,11 +334,11 @@ TEST_F(TestExtractionProperties, testThreadCountDoesNotChangeTheMesh)
         SCOPED_TRACE("volume " + std::to_string(i));
         vdbi::Options serial;
         serial.repair.threaded = false;
-        const vdbi::InterfaceMesh a = vdbi::extractInterfaces(*grids[i], serial).mesh;
+        const vdbi::InterfaceMesh a = vdbi_test::extractRaw(*grids[i], serial).mesh;
         vdbi::InterfaceMesh b;
         tbb::task_arena arena(1);
-        arena.execute([&] { b = vdbi::extractInterfaces(*grids[i]).mesh; });
-        const vdbi::InterfaceMesh c = vdbi::extractInterfaces(*grids[i]).mesh;
+        arena.execute([&] { b = vdbi_test::extractRaw(*grids[i]).mesh; });
+        const vdbi::InterfaceMesh c = vdbi_test::extractRaw(*grids[i]).mesh;
         EXPECT_EQ(vdbi_test::compareMeshes(a, b), "");
         EXPECT_EQ(vdbi_test::compareMeshes(a, c), "");
         EXPECT_GT(a.triangleCount(), 0u);

@@ -7,6 +7,7 @@
 #include <vdbi/RefinedLabels.h>
 
 #include "support/MeshChecker.h"
+#include "support/RawExtraction.h"
 
 #include <gtest/gtest.h>
 
@@ -37,7 +38,7 @@ gridOf(const std::vector<std::pair<Coord, int>>& voxels, int background = 0)
 // every normal pointing from 0 into 1, i.e. into the cube.
 TEST_F(TestInterfaceExtraction, testSingleVoxel)
 {
-    const auto r = vdbi::extractInterfaces(*gridOf({{Coord(2, 3, 4), 1}}));
+    const auto r = vdbi_test::extractRaw(*gridOf({{Coord(2, 3, 4), 1}}));
     const auto& m = r.mesh;
     ASSERT_EQ(m.patches.size(), 1u);
     EXPECT_EQ(m.patches[0].a, 0);
@@ -62,7 +63,7 @@ TEST_F(TestInterfaceExtraction, testSingleVoxel)
 // (1,2) with the shared face; 12 distinct corners.
 TEST_F(TestInterfaceExtraction, testTwoLabels)
 {
-    const auto r = vdbi::extractInterfaces(*gridOf({{Coord(0, 0, 0), 1}, {Coord(1, 0, 0), 2}}));
+    const auto r = vdbi_test::extractRaw(*gridOf({{Coord(0, 0, 0), 1}, {Coord(1, 0, 0), 2}}));
     const auto& m = r.mesh;
     ASSERT_EQ(m.patches.size(), 3u);
     EXPECT_EQ(m.patches[0].triangleCount, 10u);
@@ -82,7 +83,7 @@ TEST_F(TestInterfaceExtraction, testTwoLabels)
 // 2x2x2 corners of each 5^3). Coarse faces with a split edge become fans from their centre.
 TEST_F(TestInterfaceExtraction, testEdgeContactIsSeparated)
 {
-    const auto r = vdbi::extractInterfaces(*gridOf({{Coord(0, 0, 0), 1}, {Coord(1, 1, 0), 1}}));
+    const auto r = vdbi_test::extractRaw(*gridOf({{Coord(0, 0, 0), 1}, {Coord(1, 1, 0), 1}}));
     EXPECT_EQ(r.statistics.criticalEdges, 1u);
     EXPECT_EQ(r.statistics.criticalVertices, 2u);
     EXPECT_EQ(r.statistics.subdividedVoxels, 12u);
@@ -142,16 +143,16 @@ TEST_F(TestInterfaceExtraction, testThreadIndependence)
     const auto grid = gridOf(v);
     vdbi::Options serial;
     serial.repair.threaded = false;
-    const auto a = vdbi::extractInterfaces(*grid, serial);
+    const auto a = vdbi_test::extractRaw(*grid, serial);
     vdbi::Result b;
-    tbb::task_arena(1).execute([&] { b = vdbi::extractInterfaces(*grid); });
-    const auto c = vdbi::extractInterfaces(*grid);
+    tbb::task_arena(1).execute([&] { b = vdbi_test::extractRaw(*grid); });
+    const auto c = vdbi_test::extractRaw(*grid);
     ASSERT_GT(a.statistics.criticalEdges, 1000u);
     EXPECT_EQ(vdbi_test::compareMeshes(a.mesh, b.mesh), "");
     EXPECT_EQ(vdbi_test::compareMeshes(a.mesh, c.mesh), "");
 }
 
-// Constraint sets are checked before any work.
+// Options are checked before any work.
 TEST_F(TestInterfaceExtraction, testInvalidOptionsAreRejected)
 {
     const auto grid = gridOf({{Coord(0, 0, 0), 1}});
@@ -166,5 +167,11 @@ TEST_F(TestInterfaceExtraction, testInvalidOptionsAreRejected)
     o.repair.constraints = {{1, 2, 3}, {1, 3, 2}};
     EXPECT_THROW(vdbi::extractInterfaces(*grid, o), openvdb::ValueError);
     o.repair.constraints = {{1, 2, 3}, {4, 5, 3}};
+    EXPECT_NO_THROW(vdbi::extractInterfaces(*grid, o));
+    // Remeshed tiles would not stitch: a region is extracted raw.
+    o = vdbi::Options();
+    o.region = openvdb::CoordBBox(Coord(0, 0, 0), Coord(7, 7, 7));
+    EXPECT_THROW(vdbi::extractInterfaces(*grid, o), openvdb::ValueError);
+    o.remesh = false;
     EXPECT_NO_THROW(vdbi::extractInterfaces(*grid, o));
 }

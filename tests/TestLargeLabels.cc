@@ -16,6 +16,7 @@
 #include "support/HandMadeGrids.h"
 #include "support/MeshChecker.h"
 #include "support/RandomVolumes.h"
+#include "support/RawExtraction.h"
 
 #include <gtest/gtest.h>
 
@@ -172,7 +173,7 @@ expectSameUnderEveryMap(const std::vector<Label>& small, int size, Label backgro
     options.repair.priority = vdbi::LabelPriority(order);
     options.repair.constraints = constraints;
     const vdbi::Result reference =
-        vdbi::extractInterfaces(*mappedGrid(small, size, background, identity, origin), options);
+        vdbi_test::extractRaw(*mappedGrid(small, size, background, identity, origin), options);
     ASSERT_EQ(closedSurfaceProblem(reference.mesh), "") << what;
     ASSERT_GT(reference.mesh.patches.size(), 2u) << what;
 
@@ -188,7 +189,7 @@ expectSameUnderEveryMap(const std::vector<Label>& small, int size, Label backgro
             c = {map[std::size_t(c.a)], map[std::size_t(c.b)], map[std::size_t(c.separator)]};
         }
         const openvdb::Int32Grid::Ptr grid = mappedGrid(small, size, background, map, origin);
-        const vdbi::Result result = vdbi::extractInterfaces(*grid, mapped);
+        const vdbi::Result result = vdbi_test::extractRaw(*grid, mapped);
         EXPECT_EQ(differenceUnderMap(reference.mesh, result.mesh, map), "") << where;
         EXPECT_EQ(closedSurfaceProblem(result.mesh), "") << where;
         EXPECT_EQ(result.statistics.criticalEdges, reference.statistics.criticalEdges) << where;
@@ -373,7 +374,7 @@ TEST_F(TestLargeLabels, testSingleVoxelOfEveryExtremeLabel)
         const std::string what = std::to_string(voxel) + " in " + std::to_string(background);
         auto grid = vdbi_test::gridFromDense(1, 1, 1, {voxel}, openvdb::Coord(-1, 7, 8),
                                              background);
-        const vdbi::Result result = vdbi::extractInterfaces(*grid);
+        const vdbi::Result result = vdbi_test::extractRaw(*grid);
         ASSERT_EQ(result.mesh.patches.size(), 1u) << what;
         const vdbi::InterfacePatch& patch = result.mesh.patches[0];
         EXPECT_EQ(patch.a, std::min(voxel, background)) << what;
@@ -411,7 +412,7 @@ TEST_F(TestLargeLabels, testPatchesOfExtremeLabelsMatchTheFaces)
             const std::string what = "background " + std::to_string(bg) + ", labels "
                 + std::to_string(map[0]) + ".." + std::to_string(map[3]);
 
-            const vdbi::Result result = vdbi::extractInterfaces(*grid);
+            const vdbi::Result result = vdbi_test::extractRaw(*grid);
             EXPECT_EQ(closedSurfaceProblem(result.mesh), "") << what;
             const auto faces = vdbi_test::interfaceFacesPerPair(*grid);
             const auto areas = patchAreas(result.mesh);
@@ -467,7 +468,7 @@ TEST_F(TestLargeLabels, testActiveTileOfExtremeLabel)
         grid->tree().addTile(/*level=*/1, openvdb::Coord(0), tile, /*active=*/true);
         grid->tree().setValueOn(openvdb::Coord(8, 8, 0), voxel);
         const std::string what = "background " + std::to_string(background);
-        const vdbi::Result result = vdbi::extractInterfaces(*grid);
+        const vdbi::Result result = vdbi_test::extractRaw(*grid);
         EXPECT_EQ(closedSurfaceProblem(result.mesh), "") << what;
         std::set<std::pair<Label, Label>> pairs;
         for (const vdbi::InterfacePatch& p : result.mesh.patches) pairs.insert({p.a, p.b});
@@ -487,7 +488,7 @@ TEST_F(TestLargeLabels, testWritersKeepExtremeLabels)
     const std::vector<Label> map = labelMaps()[0];
     const std::vector<Label> small = randomDense(5, 4);
     auto grid = mappedGrid(small, 4, 3, map, openvdb::Coord(0));
-    const vdbi::InterfaceMesh mesh = vdbi::extractInterfaces(*grid).mesh;
+    const vdbi::InterfaceMesh mesh = vdbi_test::extractRaw(*grid).mesh;
     ASSERT_EQ(closedSurfaceProblem(mesh), "");
     const std::vector<std::array<Label, 2>> expected = mesh.triangleLabels();
     std::set<Label> labels;

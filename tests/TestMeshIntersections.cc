@@ -9,6 +9,7 @@
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
 
+#include "support/RawExtraction.h"
 #include "support/TestData.h"
 
 #include <gtest/gtest.h>
@@ -173,7 +174,7 @@ TEST_F(TestMeshIntersections, testMeshes)
 TEST_F(TestMeshIntersections, testRawExtraction)
 {
     const auto grid = vdbi::readLabelVolume(vdbi_test::dataPath("chr_knight.vox"));
-    const auto mesh = vdbi::extractInterfaces(*grid).mesh;
+    const auto mesh = vdbi_test::extractRaw(*grid).mesh;
     const auto found = vdbi_test::findSelfIntersections(mesh, 1.0);
     EXPECT_TRUE(found.empty()) << vdbi_test::describeIntersections(mesh, found);
 }

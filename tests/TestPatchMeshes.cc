@@ -5,6 +5,7 @@
 #include <vdbi/PatchMeshes.h>
 
 #include "support/RandomVolumes.h"
+#include "support/RawExtraction.h"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +20,7 @@ class TestPatchMeshes : public ::testing::Test {};
 TEST_F(TestPatchMeshes, testEveryTriangleIsAccepted)
 {
     for (const auto g : vdbi_test::allGenerators()) for (unsigned seed = 1; seed <= 4; ++seed) {
-        const auto result = vdbi::extractInterfaces(
+        const auto result = vdbi_test::extractRaw(
             *vdbi_test::randomVolume(g, seed, 10, 2 + int(seed % 5)));
         const auto patches = vdbi::toPatchMeshes(result.mesh);
         ASSERT_EQ(patches.size(), result.mesh.patches.size());

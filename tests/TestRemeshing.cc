@@ -4,6 +4,7 @@
 #include "support/MeshChecker.h"
 #include "support/MeshIntersections.h"
 #include "support/MeshQuality.h"
+#include "support/RawExtraction.h"
 #include "support/TestData.h"
 
 #include <vdbi/Exceptions.h>
@@ -102,7 +103,7 @@ randomBlobs(unsigned seed, int size, int labels, int centres)
 vdbi::InterfaceMesh
 extract(const openvdb::Int32Grid& grid)
 {
-    return vdbi::extractInterfaces(grid).mesh;
+    return vdbi_test::extractRaw(grid).mesh;
 }
 
 vdbi::InterfaceMesh
@@ -667,14 +668,13 @@ TEST_F(TestRemeshing, testZeroIterations)
     EXPECT_TRUE(isConsistentAndManifold(out));
 }
 
-// The pipeline entry point remeshes when asked: edge length 0 means one voxel, the stage is
+// The pipeline entry point remeshes by default: edge length 0 means one voxel, the stage is
 // timed, the statistics count the remeshed mesh.
 TEST_F(TestRemeshing, testPipeline)
 {
     auto grid = nestedBalls(3.5, 6.0);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
     vdbi::Options options;
-    options.remesh = true;
     const vdbi::Result result = vdbi::extractInterfaces(*grid, options);
     EXPECT_TRUE(isConsistentAndManifold(result.mesh));
     EXPECT_TRUE(result.mesh.pointKeys.empty());
@@ -684,7 +684,7 @@ TEST_F(TestRemeshing, testPipeline)
     EXPECT_EQ(result.statistics.stageSeconds.back().first, "remeshing");
     EXPECT_GT(vdbi_test::measureMeshQuality(result.mesh, 0.5).inRange, 0.95);
 
-    const vdbi::Result raw = vdbi::extractInterfaces(*grid);
+    const vdbi::Result raw = vdbi_test::extractRaw(*grid);
     options.edgeLength = 1.0;   // two voxels
     const vdbi::Result coarse = vdbi::extractInterfaces(*grid, options);
     EXPECT_TRUE(isConsistentAndManifold(coarse.mesh));

@@ -3,6 +3,7 @@
 #include <vdbi/Interfaces.h>
 #include <vdbi/LabelVolumeReader.h>
 
+#include "support/RawExtraction.h"
 #include "support/TestData.h"
 
 #include <gtest/gtest.h>
@@ -45,7 +46,7 @@ tiledRecords(const openvdb::Int32Grid& grid, const std::vector<CoordBBox>& tiles
     for (const CoordBBox& tile : tiles) {
         vdbi::Options options;
         options.region = tile;
-        appendRecords(vdbi::extractInterfaces(grid, options).mesh, records);
+        appendRecords(vdbi_test::extractRaw(grid, options).mesh, records);
     }
     std::sort(records.begin(), records.end());
     return records;
@@ -78,7 +79,7 @@ TEST_F(TestTiledExtraction, testTilesStitchIntoTheWhole)
     CoordBBox box = frog->evalActiveVoxelBoundingBox();
     box.expand(1);
     std::vector<TriangleRecord> whole;
-    appendRecords(vdbi::extractInterfaces(*frog).mesh, whole);
+    appendRecords(vdbi_test::extractRaw(*frog).mesh, whole);
     std::sort(whole.begin(), whole.end());
     const auto tiled = tiledRecords(*frog, splitInto(box, Coord(250, 235, 68)));
     EXPECT_EQ(tiled.size(), whole.size());
@@ -91,7 +92,7 @@ TEST_F(TestTiledExtraction, testTilesStitchIntoTheWhole)
         noise->tree().setValue(Coord(x, y, z), int((state >> 16) % 4u));
     }
     std::vector<TriangleRecord> wholeNoise;
-    appendRecords(vdbi::extractInterfaces(*noise).mesh, wholeNoise);
+    appendRecords(vdbi_test::extractRaw(*noise).mesh, wholeNoise);
     std::sort(wholeNoise.begin(), wholeNoise.end());
     for (const Coord& cut : {Coord(12, 12, 12), Coord(7, 16, 9), Coord(8, 8, 8)}) {
         const auto t = tiledRecords(*noise, splitInto(CoordBBox(Coord(-1), Coord(24)), cut));

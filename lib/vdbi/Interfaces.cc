@@ -80,6 +80,10 @@ validate(const Options& options)
         OPENVDB_THROW(openvdb::ValueError, "iterations must be >= 0, not "
             << options.iterations);
     }
+    if (options.remesh && !options.region.empty()) {
+        OPENVDB_THROW(openvdb::ValueError, "a region is extracted raw (remesh off): remeshed "
+            "tiles would not stitch");
+    }
     validateConstraints(options.repair.constraints);
 }
 

@@ -20,13 +20,16 @@ namespace vdbi {
 struct Options
 {
     RepairOptions repair;        ///< priority, constraints, threading, interrupter
-    bool remesh = false;         ///< remeshing is not available yet: the raw extraction
+    /// Remesh the patches towards edgeLength (smooth, shared curves; see Remeshing.h);
+    /// false: the raw extraction, the voxel faces themselves, exact to the input.
+    bool remesh = true;
     double edgeLength = 0.0;     ///< target edge length in world units (0: one voxel)
     int iterations = 5;          ///< remeshing iterations (see RemeshOptions)
     /// Extract only the faces owned by the voxels of this box (face (v, axis) belongs to
     /// voxel v), reading a halo of HALO voxels around it; empty: the whole grid. The raw
     /// patches of boxes that tile a grid stitch by their vertex keys into exactly the
-    /// triangles of the whole grid (the base for splitting work across machines).
+    /// triangles of the whole grid (the base for splitting work across machines). Only with
+    /// remesh = false: remeshed tiles would not stitch.
     openvdb::CoordBBox region;
     static constexpr int HALO = 3;
     /// Fill InterfaceMesh::pointKeys, the exact vertex keys that tiles stitch by (always on
@@ -60,11 +63,12 @@ struct Result
 
 /// @brief Consistent, manifold interface patches between all labels of @a grid.
 /// @details Finds the critical elements, fattens them on a sparse subdivided grid and extracts
-/// the patches (Bischoff & Kobbelt 2006). Every patch is a 2-manifold; patches share their
-/// boundary vertices; the patches of every label form a closed, oriented surface.
+/// the patches (Bischoff & Kobbelt 2006), then remeshes them unless Options::remesh is off.
+/// Every patch is a 2-manifold; patches share their boundary vertices; the patches of every
+/// label form a closed, oriented surface.
 /// @param grid     labels; the background value is the label of everything not stored
 /// @param options  see Options
-/// @throw openvdb::ValueError for invalid options
+/// @throw openvdb::ValueError for invalid options (a region with remeshing among them)
 /// @throw vdbi::Interrupted if the interrupter asks to stop
 /// @throw vdbi::TopologyError if a guarantee failed (a bug)
 Result extractInterfaces(const openvdb::Int32Grid& grid, const Options& options = Options());

@@ -97,11 +97,13 @@ main(int argc, char** argv)
 
     std::vector<Runs> runs(lengths.size());
     for (std::size_t l = 0; l < lengths.size(); ++l) runs[l].voxels = lengths[l];
+    vdbi::Options rawExtraction;
+    rawExtraction.remesh = false; // remeshed below, stage by stage
     for (int rep = 0; rep < reps; ++rep) {
         for (Runs& r : runs) {
             const double cpu0 = cpuSeconds();
             const Clock::time_point t0 = Clock::now();
-            vdbi::InterfaceMesh raw = vdbi::extractInterfaces(*grid).mesh;
+            vdbi::InterfaceMesh raw = vdbi::extractInterfaces(*grid, rawExtraction).mesh;
             const Clock::time_point t1 = Clock::now();
             vdbi::RemeshOptions options;
             options.edgeLength = r.voxels * voxel[0];

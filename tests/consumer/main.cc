@@ -20,7 +20,9 @@ main()
         grid.tree().setValue(openvdb::Coord(0, 0, 0), 1);
         grid.tree().setValue(openvdb::Coord(1, 0, 0), 2);
 
-        const vdbi::Result result = vdbi::extractInterfaces(grid);
+        vdbi::Options options;
+        options.remesh = false; // the raw extraction: its counts are exact
+        const vdbi::Result result = vdbi::extractInterfaces(grid, options);
         const vdbi::InterfaceMesh& mesh = result.mesh;
         std::cout << "patches " << mesh.patches.size() << ", triangles "
                   << mesh.triangleCount() << ", vertices " << mesh.pointCount() << "\n";

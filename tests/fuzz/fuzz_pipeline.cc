@@ -91,6 +91,7 @@ decode(const std::uint8_t* data, std::size_t size)
         }
     }
 
+    in.options.remesh = false; // repair and extraction, whose counts the checks below know
     vdbi::RepairOptions& repair = in.options.repair;
     repair.threaded = (flags & 1u) != 0;
     if (flags & 2u) {
