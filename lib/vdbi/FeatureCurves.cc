@@ -163,6 +163,105 @@ pointAt(const FeatureCurve& curve, double t, std::size_t& segment)
     return curve.smoothed[segment] * (1.0 - w) + curve.smoothed[segment + 1] * w;
 }
 
+/// Distance from @a p to the segment [@a a, @a b].
+double
+distanceToSegment(const openvdb::Vec3d& p, const openvdb::Vec3d& a, const openvdb::Vec3d& b)
+{
+    const openvdb::Vec3d ab = b - a;
+    const double len2 = ab.lengthSqr();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return (p - (a + ab * t)).length();
+}
+
+/// Does every point of the smoothed curve lie within @a maxDeviation of the chord between
+/// the samples at arc lengths @a arcs around it?
+bool
+chordsFollow(const FeatureCurve& curve, const std::vector<double>& arcs, double maxDeviation)
+{
+    std::size_t segment = 0, i = 1;
+    openvdb::Vec3d a = curve.smoothed.front();
+    for (std::size_t k = 1; k < arcs.size(); ++k) {
+        const openvdb::Vec3d b = pointAt(curve, arcs[k], segment);
+        for (; i + 1 < curve.smoothed.size() && curve.arcLength[i] < arcs[k]; ++i) {
+            if (distanceToSegment(curve.smoothed[i], a, b) > maxDeviation) return false;
+        }
+        a = b;
+    }
+    return true;
+}
+
+/// @brief Indices of the smoothed points that a Douglas-Peucker simplification of the curve
+/// with tolerance @a maxDeviation keeps, ascending, the two ends included: its corners.
+std::vector<std::size_t>
+cornerPoints(const FeatureCurve& curve, double maxDeviation)
+{
+    const std::vector<openvdb::Vec3d>& p = curve.smoothed;
+    std::vector<char> kept(p.size(), 0);
+    kept.front() = kept.back() = 1;
+    std::vector<std::pair<std::size_t, std::size_t>> stack{{0, p.size() - 1}};
+    while (!stack.empty()) {
+        const auto [first, last] = stack.back();
+        stack.pop_back();
+        std::size_t farthest = first;
+        double worst = maxDeviation;
+        for (std::size_t i = first + 1; i < last; ++i) {
+            const double d = distanceToSegment(p[i], p[first], p[last]);
+            if (d > worst) {
+                worst = d;
+                farthest = i;
+            }
+        }
+        if (farthest == first) continue;
+        kept[farthest] = 1;
+        stack.push_back({first, farthest});
+        stack.push_back({farthest, last});
+    }
+    std::vector<std::size_t> corners;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (kept[i]) corners.push_back(i);
+    }
+    return corners;
+}
+
+/// @brief Arc lengths of the samples of @a curve, from 0 to its length: uniform, about
+/// @a targetLength apart, where the chords between them stay within @a maxDeviation of the
+/// curve; else uniform between the curve's corners (cornerPoints()), so that a tight bend (the
+/// end of a strip one voxel wide, the corner of a box) keeps a sample instead of being cut.
+/// At least @a minSegments segments.
+std::vector<double>
+sampleArcLengths(const FeatureCurve& curve, double targetLength, std::size_t minSegments,
+                 double maxDeviation)
+{
+    auto appendUniform = [&](double from, double to, std::vector<double>& arcs) {
+        const long n = std::max(1L, std::lround((to - from) / targetLength));
+        for (long k = 1; k <= n; ++k) arcs.push_back(from + (to - from) * double(k) / double(n));
+    };
+    std::vector<double> arcs{0.0};
+    const double length = curve.length();
+    const std::size_t n = std::max<std::size_t>(minSegments,
+        std::size_t(std::max(1L, std::lround(length / targetLength))));
+    for (std::size_t k = 1; k <= n; ++k) arcs.push_back(length * double(k) / double(n));
+    if (chordsFollow(curve, arcs, maxDeviation)) return arcs;
+
+    arcs.assign(1, 0.0);
+    const std::vector<std::size_t> corners = cornerPoints(curve, maxDeviation);
+    for (std::size_t j = 1; j < corners.size(); ++j) {
+        const double from = curve.arcLength[corners[j - 1]], to = curve.arcLength[corners[j]];
+        if (to > from) appendUniform(from, to, arcs);
+    }
+    arcs.back() = length;
+    // Too few segments (a short closed curve): halve the longest until there are enough.
+    while (arcs.size() < minSegments + 1) {
+        std::size_t longest = 1;
+        for (std::size_t k = 2; k < arcs.size(); ++k) {
+            if (arcs[k] - arcs[k - 1] > arcs[longest] - arcs[longest - 1]) longest = k;
+        }
+        arcs.insert(arcs.begin() + std::ptrdiff_t(longest),
+                    0.5 * (arcs[longest - 1] + arcs[longest]));
+    }
+    return arcs;
+}
+
 } // namespace
 
 
@@ -281,7 +380,8 @@ smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int iterat
 
 
 void
-resampleFeatureCurves(FeatureCurves& curves, double targetLength, bool threaded)
+resampleFeatureCurves(FeatureCurves& curves, double targetLength, double maxDeviation,
+                      bool threaded)
 {
     const std::size_t nc = curves.curves.size();
     // Curves that join the same two junctions: none of them may be a single segment, or two
@@ -292,38 +392,34 @@ resampleFeatureCurves(FeatureCurves& curves, double targetLength, bool threaded)
         return std::make_pair(std::min(u, v), std::max(u, v));
     };
     for (const FeatureCurve& curve : curves.curves) ++curvesWithEnds[endsOf(curve)];
-    std::vector<std::uint32_t> segments(nc);
-    for (std::size_t c = 0; c < nc; ++c) {
-        const FeatureCurve& curve = curves.curves[c];
-        long n = std::max(1L, std::lround(curve.length() / targetLength));
-        if (curve.isClosed()) n = std::max(3L, n);
-        else if (curvesWithEnds[endsOf(curve)] > 1) n = std::max(2L, n);
-        segments[c] = std::uint32_t(n);
-    }
+    forEachIndex(nc, threaded, [&](std::size_t c) {
+        FeatureCurve& curve = curves.curves[c];
+        const std::size_t minSegments =
+            curve.isClosed() ? 3 : curvesWithEnds.at(endsOf(curve)) > 1 ? 2 : 1;
+        curve.sampleArcLength = sampleArcLengths(curve, targetLength, minSegments, maxDeviation);
+    });
 
     std::vector<std::uint32_t> firstInner(nc + 1);
     firstInner[0] = std::uint32_t(curves.junctions.size());
-    for (std::size_t c = 0; c < nc; ++c) firstInner[c + 1] = firstInner[c] + segments[c] - 1;
+    for (std::size_t c = 0; c < nc; ++c) {
+        firstInner[c + 1] =
+            firstInner[c] + std::uint32_t(curves.curves[c].sampleArcLength.size()) - 2;
+    }
     curves.samplePoints.resize(firstInner[nc]);
     curves.sampleCurves.assign(firstInner[nc], FeatureCurves::NO_CURVE);
 
     forEachIndex(nc, threaded, [&](std::size_t c) {
         FeatureCurve& curve = curves.curves[c];
-        const std::uint32_t n = segments[c];
-        const double length = curve.length();
+        const std::size_t n = curve.sampleArcLength.size() - 1;
         curve.samples.resize(n + 1);
-        curve.sampleArcLength.resize(n + 1);
         curve.samples[0] = std::uint32_t(curves.junctionSample(curve.points.front()));
         curve.samples[n] = std::uint32_t(curves.junctionSample(curve.points.back()));
-        curve.sampleArcLength[0] = 0.0;
-        curve.sampleArcLength[n] = length;
         std::size_t segment = 0;
-        for (std::uint32_t k = 1; k < n; ++k) {
-            const double t = length * double(k) / double(n);
-            curve.samples[k] = firstInner[c] + k - 1;
+        for (std::size_t k = 1; k < n; ++k) {
+            curve.samples[k] = firstInner[c] + std::uint32_t(k) - 1;
             curves.sampleCurves[curve.samples[k]] = std::uint32_t(c);
-            curve.sampleArcLength[k] = t;
-            curves.samplePoints[curve.samples[k]] = pointAt(curve, t, segment);
+            curves.samplePoints[curve.samples[k]] =
+                pointAt(curve, curve.sampleArcLength[k], segment);
         }
     });
     // Junctions keep their extracted positions (the ends of every smoothed curve).

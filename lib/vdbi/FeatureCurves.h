@@ -32,7 +32,7 @@ struct FeatureCurve
     /// Global sample index (into FeatureCurves::samplePoints) of the resampled polyline's
     /// n + 1 points; the two ends are the ids of the junctions at p0 and pm.
     std::vector<std::uint32_t> samples;
-    /// Arc length of every sample along the smoothed polyline (uniform spacing).
+    /// Arc length of every sample along the smoothed polyline, ascending.
     std::vector<double> sampleArcLength;
 
     bool isClosed() const { return points.front() == points.back(); }
@@ -92,14 +92,18 @@ FeatureCurves findFeatureCurves(const InterfaceMesh& mesh, bool threaded = true)
 void smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int iterations,
                          const openvdb::Vec3d& maxDisplacement, bool threaded = true);
 
-/// @brief Resamples every smoothed curve once, uniformly in arc length.
-/// @details A curve of length L gets n = max(1, round(L / targetLength)) segments, at least
-/// 3 for a closed curve and at least 2 when another curve joins the same two junctions (so
-/// no two curves share a segment, no patch boundary is a 2-gon, and a single-segment curve
-/// never coincides with an extracted edge of another curve). Fills
-/// FeatureCurve::samples, sampleArcLength and FeatureCurves::samplePoints, sampleCurves.
+/// @brief Resamples every smoothed curve once, about @a targetLength apart.
+/// @details A curve of length L gets n = max(1, round(L / targetLength)) segments, uniform in
+/// arc length, at least 3 for a closed curve and at least 2 when another curve joins the same
+/// two junctions (so no two curves share a segment, no patch boundary is a 2-gon, and a
+/// single-segment curve never coincides with an extracted edge of another curve). Where a
+/// chord of those would pass farther than @a maxDeviation from the smoothed curve (a tight
+/// bend cut short), the curve is split at its corners (Douglas-Peucker with that tolerance)
+/// and every piece is resampled uniformly instead. Fills FeatureCurve::samples,
+/// sampleArcLength and FeatureCurves::samplePoints, sampleCurves.
 /// @pre smoothFeatureCurves() ran
-void resampleFeatureCurves(FeatureCurves& curves, double targetLength, bool threaded = true);
+void resampleFeatureCurves(FeatureCurves& curves, double targetLength, double maxDeviation,
+                           bool threaded = true);
 
 } // namespace vdbi
 

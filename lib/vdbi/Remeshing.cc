@@ -33,6 +33,13 @@ using Vec3d = openvdb::Vec3d;
 /// How far, in voxels, smoothing may move a curve point and a reference surface point: enough
 /// to flatten the staircase, little enough that a one-voxel rod keeps most of its section.
 constexpr double CURVE_BOUND = 0.45, SURFACE_BOUND = 0.45;
+/// How far, in voxels, a chord between two curve samples may pass from the smoothed curve.
+/// At longer edge lengths a uniform resampling cuts tight bends (the end of a strip one voxel
+/// wide), leaving voxel faces there over a voxel away from the patch and the patches there
+/// crossing (frog at 4 voxels: 520 -> 225 crossing pairs, faces up to 1.59 -> 0.97 voxel
+/// away). 0.5 cut the crossings on the voxel-art samples further but added samples on the
+/// frog's gentle bends: 55 crossing pairs at 2 voxels instead of 31.
+constexpr double CHORD_DEVIATION = 0.7;
 /// Taubin iterations along the feature curves and on the reference surfaces.
 constexpr int CURVE_SMOOTHING = 10, SURFACE_SMOOTHING = 10;
 /// How far, in voxels, a collapse, flip or relaxation move may take the surface from a point
@@ -148,7 +155,8 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     checkInterrupt(options.interrupter, "remeshing");
     FeatureCurves curves = findFeatureCurves(raw, options.threaded);
     smoothFeatureCurves(curves, raw, CURVE_SMOOTHING, voxel * CURVE_BOUND, options.threaded);
-    resampleFeatureCurves(curves, settings.target, options.threaded);
+    resampleFeatureCurves(curves, settings.target, CHORD_DEVIATION * smallestVoxel,
+                          options.threaded);
     stats.curveSeconds = secondsSince(clock);
     checkInterrupt(options.interrupter, "remeshing");
 
