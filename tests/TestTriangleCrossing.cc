@@ -177,6 +177,25 @@ TEST_F(TestTriangleCrossing, testTouchAgreesWithIndependentCheck)
     EXPECT_LT(tolerated, 1000u);
 }
 
+// trianglesMeet() answers the same in either order. Each test takes the first triangle's
+// plane, and a nearly coplanar pair was decided differently: separation and the flips then
+// disagreed on which pairs meet. This pair from monu1 at 4 voxels lies in y = 10.5 to
+// rounding, side by side, sharing a corner, their lower edges on one line.
+TEST_F(TestTriangleCrossing, testMeetIsSymmetric)
+{
+    const vdbi::PointArray points = {
+        {39.5, 10.500000000000002, 2.3633507177842565},
+        {41.0, 10.5, 3.9316753588921283},
+        {43.500000000000007, 10.500000000000002, 2.3633507177842565},
+        {46.0, 10.5, 3.9316753588921283},
+        {47.5, 10.500000000000002, 2.3633507177842565}};
+    const openvdb::Vec3I s(0, 1, 2), t(3, 4, 2);
+    EXPECT_EQ(vdbi::trianglesMeet(points, s, t), vdbi::trianglesMeet(points, t, s));
+    const openvdb::Vec3I sTurned(1, 2, 0), tTurned(2, 3, 4);
+    EXPECT_EQ(vdbi::trianglesMeet(points, sTurned, tTurned),
+              vdbi::trianglesMeet(points, tTurned, sTurned));
+}
+
 TEST_F(TestTriangleCrossing, testCountCrossings)
 {
     // A flat fan has none; lifting every other corner far above the plane folds nothing

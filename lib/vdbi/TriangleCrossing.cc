@@ -426,6 +426,12 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
 bool
 trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t)
 {
+    // The tests take the first triangle's plane: in one order, whichever comes first, so
+    // that a pair meets or not the same way for every caller (nearly coplanar pairs differed).
+    if (std::lexicographical_compare(t.asPointer(), t.asPointer() + 3, s.asPointer(),
+                                     s.asPointer() + 3)) {
+        return trianglesMeet(points, t, s);
+    }
     CornerTriangle first = cornerTriangle(points, s, false);
     CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
     if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
