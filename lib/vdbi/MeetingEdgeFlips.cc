@@ -54,17 +54,25 @@ public:
         trianglesAroundPoints(mesh, mFirst, mAround);
     }
 
-    std::size_t run(bool threaded)
+    std::size_t run(bool threaded, const std::vector<std::uint32_t>* suspects)
     {
-        const TrianglePairs pairs = mGrid.allMeetingPairs(
-            [this](std::uint32_t f, std::uint32_t g) {
-                return trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
-            },
-            threaded);
         std::vector<std::uint32_t> meeting;
-        for (const auto& [f, g] : pairs) {
-            meeting.push_back(f);
-            meeting.push_back(g);
+        if (suspects) {
+            for (const std::uint32_t v : *suspects) {
+                for (std::uint32_t k = mFirst[v]; k < mFirst[v + 1]; ++k) {
+                    addMeeting(mAround[k], meeting);
+                }
+            }
+        } else {
+            const TrianglePairs pairs = mGrid.allMeetingPairs(
+                [this](std::uint32_t f, std::uint32_t g) {
+                    return trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
+                },
+                threaded);
+            for (const auto& [f, g] : pairs) {
+                meeting.push_back(f);
+                meeting.push_back(g);
+            }
         }
         std::size_t flips = 0;
         for (int pass = 0; pass < PASSES && !meeting.empty(); ++pass) {
@@ -157,6 +165,21 @@ private:
         mCandidates.erase(std::unique(mCandidates.begin(), mCandidates.end()), mCandidates.end());
     }
 
+    /// Appends @a h and every triangle it meets to @a meeting if it meets any.
+    void addMeeting(std::uint32_t h, std::vector<std::uint32_t>& meeting)
+    {
+        const Vec3I& t = mMesh.triangles[h];
+        findCandidates({t[0], t[1], t[2]});
+        bool meets = false;
+        for (const std::uint32_t x : mCandidates) {
+            if (x != h && trianglesMeet(mMesh.points, t, mMesh.triangles[x])) {
+                meeting.push_back(x);
+                meets = true;
+            }
+        }
+        if (meets) meeting.push_back(h);
+    }
+
     /// Does triangle @a h meet any other?
     bool meetsAny(std::uint32_t h)
     {
@@ -188,9 +211,9 @@ private:
 
 std::size_t
 flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
-                 bool threaded)
+                 bool threaded, const std::vector<std::uint32_t>* suspects)
 {
-    return EdgeFlipper(mesh, movable, cellSize, threaded).run(threaded);
+    return EdgeFlipper(mesh, movable, cellSize, threaded).run(threaded, suspects);
 }
 
 } // namespace vdbi

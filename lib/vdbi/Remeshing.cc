@@ -234,11 +234,28 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     // which a second separation there moves. Once: splitting again splits the same small
     // triangles further (frog at 2 voxels, when every meeting triangle was split: 400 meeting
     // pairs, 362 after one split and separation, 388 after three).
+    // Every pair still meeting after that has a triangle with a corner among the points of
+    // the pairs left now or the corners of the split triangles: splits keep the shape, and
+    // separateAround() moves only these corners. The flips look only there.
+    std::vector<std::uint32_t> suspects;
+    for (const auto& [f, g] : meeting) {
+        for (int k = 0; k < 3; ++k) {
+            suspects.push_back(out.triangles[f][k]);
+            suspects.push_back(out.triangles[g][k]);
+        }
+    }
     const std::size_t firstNew = out.points.size();
     if (splitMeetingTriangles(out, movable, start, meeting) > 0) {
         separateAround(out, movable, start, separation, firstNew);
     }
-    flipMeetingEdges(out, movable, separation.cellSize, separation.threaded);
+    for (const openvdb::Vec3I& t : out.triangles) {
+        if (t[0] >= firstNew || t[1] >= firstNew || t[2] >= firstNew) {
+            suspects.insert(suspects.end(), {t[0], t[1], t[2]});
+        }
+    }
+    std::sort(suspects.begin(), suspects.end());
+    suspects.erase(std::unique(suspects.begin(), suspects.end()), suspects.end());
+    flipMeetingEdges(out, movable, separation.cellSize, separation.threaded, &suspects);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;
