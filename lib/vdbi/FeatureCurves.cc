@@ -232,22 +232,24 @@ std::vector<double>
 sampleArcLengths(const FeatureCurve& curve, double targetLength, std::size_t minSegments,
                  double maxDeviation)
 {
-    auto appendUniform = [&](double from, double to, std::vector<double>& arcs) {
-        const long n = std::max(1L, std::lround((to - from) / targetLength));
-        for (long k = 1; k <= n; ++k) arcs.push_back(from + (to - from) * double(k) / double(n));
+    auto segmentsFor = [&](double length) {
+        return std::size_t(std::max(1L, std::lround(length / targetLength)));
     };
     std::vector<double> arcs{0.0};
+    auto appendUniform = [&](double from, double to, std::size_t n) {
+        for (std::size_t k = 1; k <= n; ++k) {
+            arcs.push_back(from + (to - from) * double(k) / double(n));
+        }
+    };
     const double length = curve.length();
-    const std::size_t n = std::max<std::size_t>(minSegments,
-        std::size_t(std::max(1L, std::lround(length / targetLength))));
-    for (std::size_t k = 1; k <= n; ++k) arcs.push_back(length * double(k) / double(n));
+    appendUniform(0.0, length, std::max(minSegments, segmentsFor(length)));
     if (chordsFollow(curve, arcs, maxDeviation)) return arcs;
 
     arcs.assign(1, 0.0);
     const std::vector<std::size_t> corners = cornerPoints(curve, maxDeviation);
     for (std::size_t j = 1; j < corners.size(); ++j) {
         const double from = curve.arcLength[corners[j - 1]], to = curve.arcLength[corners[j]];
-        if (to > from) appendUniform(from, to, arcs);
+        if (to > from) appendUniform(from, to, segmentsFor(to - from));
     }
     arcs.back() = length;
     // Too few segments (a short closed curve): halve the longest until there are enough.
