@@ -22,6 +22,15 @@ namespace {
 
 using vdbi_test::intersectingPairs;
 
+/// Every point of @a mesh: the flips search the whole mesh.
+std::vector<std::uint32_t>
+allPoints(const vdbi::InterfaceMesh& mesh)
+{
+    std::vector<std::uint32_t> points(mesh.points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) points[i] = std::uint32_t(i);
+    return points;
+}
+
 /// Patch (1, 2): a ridge of two triangles (0, 1, 2) and (1, 0, 3) along its edge 0-1 at
 /// z = 1, down to corners 2 and 3 at z = 0; patch (3, 4): a flat triangle at z = 0.8 across
 /// the ridge, which crosses both. With the other diagonal 2-3 the pair is a valley, under it.
@@ -42,7 +51,7 @@ TEST(TestMeetingEdgeFlips, testFlipGoesRound)
     ASSERT_EQ(intersectingPairs(mesh),
               (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 2}, {1, 2}}));
     const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0};
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 1u);
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 1u);
     EXPECT_TRUE(intersectingPairs(mesh).empty());
     // The same points, the other diagonal, both triangles still facing down.
     EXPECT_EQ(mesh.triangles[0], Vec3I(0, 3, 2));
@@ -55,7 +64,7 @@ TEST(TestMeetingEdgeFlips, testNoDiagonalBetweenLockedPoints)
     // Another patch on the same curves could make the edge 2-3 too.
     vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
     const std::vector<std::uint8_t> movable = {1, 1, 0, 0, 0, 0, 0};
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 0u);
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 0u);
     EXPECT_EQ(mesh.triangles, ridgeUnderTriangle().triangles);
 }
 
@@ -72,7 +81,7 @@ TEST(TestMeetingEdgeFlips, testNoFlipOfCurveSegment)
     mesh.patches.insert(mesh.patches.begin() + 1, side);
     ASSERT_EQ(intersectingPairs(mesh).size(), 2u);
     const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0};
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 0u);
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 0u);
     EXPECT_EQ(mesh.triangles, ridgeUnderTriangle().triangles);
 }
 
@@ -92,6 +101,6 @@ TEST(TestMeetingEdgeFlips, testNoFlipThatMeetsMore)
     ASSERT_FALSE(intersectingPairs(mesh).empty());
     const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0, 0, 0, 0};
     const vdbi::TriangleArray before = mesh.triangles;
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false), 0u);
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 0u);
     EXPECT_EQ(mesh.triangles, before);
 }

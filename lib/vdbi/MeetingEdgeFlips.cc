@@ -54,24 +54,12 @@ public:
         trianglesAroundPoints(mesh, mFirst, mAround);
     }
 
-    std::size_t run(bool threaded, const std::vector<std::uint32_t>* suspects)
+    std::size_t run(const std::vector<std::uint32_t>& suspects)
     {
         std::vector<std::uint32_t> meeting;
-        if (suspects) {
-            for (const std::uint32_t v : *suspects) {
-                for (std::uint32_t k = mFirst[v]; k < mFirst[v + 1]; ++k) {
-                    addMeeting(mAround[k], meeting);
-                }
-            }
-        } else {
-            const TrianglePairs pairs = mGrid.allMeetingPairs(
-                [this](std::uint32_t f, std::uint32_t g) {
-                    return trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g]);
-                },
-                threaded);
-            for (const auto& [f, g] : pairs) {
-                meeting.push_back(f);
-                meeting.push_back(g);
+        for (const std::uint32_t v : suspects) {
+            for (std::uint32_t k = mFirst[v]; k < mFirst[v + 1]; ++k) {
+                addMeeting(mAround[k], meeting);
             }
         }
         std::size_t flips = 0;
@@ -211,9 +199,9 @@ private:
 
 std::size_t
 flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
-                 bool threaded, const std::vector<std::uint32_t>* suspects)
+                 bool threaded, const std::vector<std::uint32_t>& suspects)
 {
-    return EdgeFlipper(mesh, movable, cellSize, threaded).run(threaded, suspects);
+    return EdgeFlipper(mesh, movable, cellSize, threaded).run(suspects);
 }
 
 } // namespace vdbi

@@ -30,14 +30,15 @@ namespace vdbi {
 /// @param mesh      [in,out] the separated patches
 /// @param movable   one flag per point: nonzero for a free (inner) vertex
 /// @param cellSize  about the edge length: the width of the grid of candidate pairs
-/// @param threaded  look for meeting pairs with TBB (the result is the same either way)
-/// @param suspects  if given, points such that every meeting pair has a triangle with a
-///                  corner among them: only the triangles around them and those they meet
-///                  are looked at, not the whole mesh (the same pairs, found faster)
+/// @param threaded  build the grid of candidate pairs with TBB (the result is the same
+///                  either way)
+/// @param suspects  points such that every meeting pair has a triangle with a corner among
+///                  them: the triangles around them and those they meet are looked at, not
+///                  the whole mesh (every point for a search of the whole mesh)
 /// @return the number of edges flipped
 std::size_t flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                              double cellSize, bool threaded,
-                             const std::vector<std::uint32_t>* suspects = nullptr);
+                             const std::vector<std::uint32_t>& suspects);
 
 } // namespace vdbi
 

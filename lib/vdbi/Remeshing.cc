@@ -255,7 +255,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     }
     std::sort(suspects.begin(), suspects.end());
     suspects.erase(std::unique(suspects.begin(), suspects.end()), suspects.end());
-    flipMeetingEdges(out, movable, separation.cellSize, separation.threaded, &suspects);
+    flipMeetingEdges(out, movable, separation.cellSize, separation.threaded, suspects);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;
