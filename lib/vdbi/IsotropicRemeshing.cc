@@ -173,6 +173,7 @@ private:
     std::vector<FaceHandle> mChanged;        ///< scratch: faces an operation changed
     std::vector<FaceHandle> mFaces;          ///< scratch: faces around an operation
     std::vector<Triangle> mTriangles;        ///< scratch: the triangles replacing them
+    std::vector<Point> mUnitNormals;         ///< scratch: their unit normals
     std::vector<FaceHandle> mRemovedFaces;   ///< scratch: faces a collapse removes
     std::vector<FaceHandle> mUnchangedFaces;     ///< scratch: faces a collapse keeps
     std::vector<Triangle> mUnchangedTriangles;   ///< scratch: their triangles
@@ -232,7 +233,13 @@ IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
 {
     if (mPoints.empty()) return;
     mTriangles.resize(faces.size());
-    for (std::size_t k = 0; k < faces.size(); ++k) mTriangles[k] = triangle(faces[k]);
+    mUnitNormals.resize(faces.size());
+    for (std::size_t k = 0; k < faces.size(); ++k) {
+        const Triangle& t = mTriangles[k] = triangle(faces[k]);
+        const Point n = (t.b - t.a) % (t.c - t.a);
+        const double length = n.norm();
+        mUnitNormals[k] = length > 0.0 ? n / length : Point(0, 0, 0);
+    }
     for (const int i : mPoints) {
         const Point q = toPoint(mReferencePoints[i]);
         std::size_t best = 0;
@@ -241,6 +248,11 @@ IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
         // (a point at a corner of the fan, a fifth of them in the first round).
         for (std::size_t k = 0; k < faces.size() && bestDistance > 0.0; ++k) {
             const Triangle& t = mTriangles[k];
+            // The distance to the face's plane bounds the distance to the face from below: a
+            // face whose plane is farther than the best so far is skipped (with a margin for
+            // rounding: the choice stays the one the full distances make).
+            const double height = mUnitNormals[k] | (q - t.a);
+            if (height * height > bestDistance * (1.0 + 1e-9)) continue;
             const double d = distance2(q, t.a, t.b, t.c);
             if (d < bestDistance) {
                 bestDistance = d;
