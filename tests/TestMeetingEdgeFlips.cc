@@ -51,8 +51,10 @@ TEST(TestMeetingEdgeFlips, testFlipGoesRound)
     ASSERT_EQ(intersectingPairs(mesh),
               (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 2}, {1, 2}}));
     const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0};
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 1u);
+    vdbi::TrianglePairs left = {{0, 1}};
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh), &left), 1u);
     EXPECT_TRUE(intersectingPairs(mesh).empty());
+    EXPECT_TRUE(left.empty());
     // The same points, the other diagonal, both triangles still facing down.
     EXPECT_EQ(mesh.triangles[0], Vec3I(0, 3, 2));
     EXPECT_EQ(mesh.triangles[1], Vec3I(3, 1, 2));
@@ -64,8 +66,11 @@ TEST(TestMeetingEdgeFlips, testNoDiagonalBetweenLockedPoints)
     // Another patch on the same curves could make the edge 2-3 too.
     vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
     const std::vector<std::uint8_t> movable = {1, 1, 0, 0, 0, 0, 0};
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 0u);
+    vdbi::TrianglePairs left;
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh), &left), 0u);
     EXPECT_EQ(mesh.triangles, ridgeUnderTriangle().triangles);
+    // Both pairs still meet.
+    EXPECT_EQ(left, (vdbi::TrianglePairs{{0, 2}, {1, 2}}));
 }
 
 TEST(TestMeetingEdgeFlips, testNoFlipOfCurveSegment)
@@ -101,6 +106,10 @@ TEST(TestMeetingEdgeFlips, testNoFlipThatMeetsMore)
     ASSERT_FALSE(intersectingPairs(mesh).empty());
     const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0, 0, 0, 0};
     const vdbi::TriangleArray before = mesh.triangles;
-    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh)), 0u);
+    vdbi::TrianglePairs left;
+    EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh), &left), 0u);
     EXPECT_EQ(mesh.triangles, before);
+    // The pairs the independent checker finds, and no other.
+    const auto pairs = intersectingPairs(mesh);
+    EXPECT_EQ(left, vdbi::TrianglePairs(pairs.begin(), pairs.end()));
 }

@@ -54,7 +54,7 @@ public:
         trianglesAroundPoints(mesh, mFirst, mAround);
     }
 
-    std::size_t run(const std::vector<std::uint32_t>& suspects)
+    std::size_t run(const std::vector<std::uint32_t>& suspects, TrianglePairs* left)
     {
         std::vector<std::uint32_t> meeting;
         for (const std::uint32_t v : suspects) {
@@ -92,6 +92,19 @@ public:
             meeting.erase(std::remove_if(meeting.begin(), meeting.end(),
                                          [&](std::uint32_t h) { return !meetsAny(h); }),
                           meeting.end());
+        }
+        if (left) {
+            // Every triangle still meeting one is in the list: those of the last pass that
+            // still meet, and those of the pass before if the last flipped none.
+            left->clear();
+            for (const std::uint32_t h : meeting) {
+                findPartners(h);
+                for (const std::uint32_t x : mPartners) {
+                    left->emplace_back(std::min(h, x), std::max(h, x));
+                }
+            }
+            std::sort(left->begin(), left->end());
+            left->erase(std::unique(left->begin(), left->end()), left->end());
         }
         return flips;
     }
@@ -153,30 +166,33 @@ private:
         mCandidates.erase(std::unique(mCandidates.begin(), mCandidates.end()), mCandidates.end());
     }
 
-    /// Appends @a h and every triangle it meets to @a meeting if it meets any.
-    void addMeeting(std::uint32_t h, std::vector<std::uint32_t>& meeting)
+    /// The triangles @a h meets, into mPartners.
+    void findPartners(std::uint32_t h)
     {
         const Vec3I& t = mMesh.triangles[h];
         findCandidates({t[0], t[1], t[2]});
-        bool meets = false;
+        mPartners.clear();
         for (const std::uint32_t x : mCandidates) {
             if (x != h && trianglesMeet(mMesh.points, t, mMesh.triangles[x])) {
-                meeting.push_back(x);
-                meets = true;
+                mPartners.push_back(x);
             }
         }
-        if (meets) meeting.push_back(h);
+    }
+
+    /// Appends @a h and every triangle it meets to @a meeting if it meets any.
+    void addMeeting(std::uint32_t h, std::vector<std::uint32_t>& meeting)
+    {
+        findPartners(h);
+        if (mPartners.empty()) return;
+        meeting.insert(meeting.end(), mPartners.begin(), mPartners.end());
+        meeting.push_back(h);
     }
 
     /// Does triangle @a h meet any other?
     bool meetsAny(std::uint32_t h)
     {
-        const Vec3I& t = mMesh.triangles[h];
-        findCandidates({t[0], t[1], t[2]});
-        for (const std::uint32_t x : mCandidates) {
-            if (x != h && trianglesMeet(mMesh.points, t, mMesh.triangles[x])) return true;
-        }
-        return false;
+        findPartners(h);
+        return !mPartners.empty();
     }
 
     /// Passes over the meeting triangles: a flip lets the triangles around its corners wait
@@ -191,7 +207,7 @@ private:
     std::vector<std::uint32_t> mFirst, mAround;
     /// Points at a corner of a flipped pair: their triangles are no longer mAround's.
     std::vector<char> mChanged;
-    std::vector<std::uint32_t> mFlipped, mCandidates;
+    std::vector<std::uint32_t> mFlipped, mCandidates, mPartners;
 };
 
 } // namespace
@@ -199,9 +215,10 @@ private:
 
 std::size_t
 flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
-                 bool threaded, const std::vector<std::uint32_t>& suspects)
+                 bool threaded, const std::vector<std::uint32_t>& suspects,
+                 TrianglePairs* left)
 {
-    return EdgeFlipper(mesh, movable, cellSize, threaded).run(suspects);
+    return EdgeFlipper(mesh, movable, cellSize, threaded).run(suspects, left);
 }
 
 } // namespace vdbi

@@ -6,6 +6,7 @@
 #ifndef VDBI_MEETING_EDGE_FLIPS_HAS_BEEN_INCLUDED
 #define VDBI_MEETING_EDGE_FLIPS_HAS_BEEN_INCLUDED
 
+#include <vdbi/CandidateGrid.h>
 #include <vdbi/InterfaceMesh.h>
 
 #include <cstdint>
@@ -35,10 +36,12 @@ namespace vdbi {
 /// @param suspects  points such that every meeting pair has a triangle with a corner among
 ///                  them: the triangles around them and those they meet are looked at, not
 ///                  the whole mesh (every point for a search of the whole mesh)
+/// @param left      if given, set to the pairs of triangles that still meet, ascending
 /// @return the number of edges flipped
 std::size_t flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                              double cellSize, bool threaded,
-                             const std::vector<std::uint32_t>& suspects);
+                             const std::vector<std::uint32_t>& suspects,
+                             TrianglePairs* left = nullptr);
 
 } // namespace vdbi
 
