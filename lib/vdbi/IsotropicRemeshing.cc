@@ -3,6 +3,7 @@
 #include <vdbi/IsotropicRemeshing.h>
 
 #include <vdbi/EdgeCollapse.h>
+#include <vdbi/EdgeDiamond.h>
 #include <vdbi/FoldGuard.h>
 
 #include <algorithm>
@@ -31,39 +32,6 @@ distance2(const Point& p, const Point& a, const Point& b, const Point& c)
     return (closestPointOnTriangle(toVec(p), toVec(a), toVec(b), toVec(c), bary) - toVec(p))
         .lengthSqr();
 }
-
-/// Cosine of the smallest angle of triangle (a, b, c).
-inline double
-smallestAngleCos(const Point& a, const Point& b, const Point& c)
-{
-    const Point ab = (b - a).normalized(), bc = (c - b).normalized(), ca = (a - c).normalized();
-    return std::max({-(ab | ca), -(bc | ab), -(ca | bc)});
-}
-
-/// The two triangles at an inner edge: the edge p0 -> p1 (halfedge 0), pc the corner
-/// opposite it on halfedge 0's side, pd on the other.
-struct EdgeDiamond
-{
-    Point p0, p1, pc, pd;
-
-    EdgeDiamond(const TriMesh& mesh, EdgeHandle e)
-    {
-        const HalfedgeHandle h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
-        p0 = mesh.point(mesh.from_vertex_handle(h0));
-        p1 = mesh.point(mesh.to_vertex_handle(h0));
-        pc = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h0)));
-        pd = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h1)));
-    }
-    /// Cosine of the smallest angle of the two triangles, as they are and after a flip.
-    double smallestCos() const
-    {
-        return std::max(smallestAngleCos(p0, p1, pc), smallestAngleCos(p1, p0, pd));
-    }
-    double smallestCosFlipped() const
-    {
-        return std::max(smallestAngleCos(p0, pd, pc), smallestAngleCos(pd, p1, pc));
-    }
-};
 
 /// A triangle by its corner positions.
 struct Triangle
