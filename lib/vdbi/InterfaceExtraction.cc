@@ -9,11 +9,12 @@
 
 #include <openvdb/Exceptions.h>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
-#include <memory>
+#include <functional>
 
 namespace vdbi {
 
@@ -45,6 +46,24 @@ extractionBlocks(const RefinedLabels& labels, bool threaded)
     origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
     return withPositiveNeighbours(origins);
 }
+
+/// @brief What a thread walks blocks with in step 1 of the extraction, kept from one range
+/// of blocks to the next.
+/// @details Made anew for every range (167 ranges for frog on 2 threads), they took frog's
+/// extraction to 0.276-0.293 s on one TBB thread, against 0.259 s serial (one for all).
+struct BlockScratch
+{
+    explicit BlockScratch(const RefinedLabels& refined)
+        : labels(refined.coarse->tree()), subdivided(refined.subdivided->tree()), walker(refined)
+    {}
+
+    LabelWindow::Accessor labels;
+    MaskWindow::Accessor subdivided;
+    LabelWindow window;
+    MaskWindow mask;
+    extraction::BlockFaceWalker walker;
+    std::vector<std::uint8_t> owner;   ///< per face key of a block: handOverDirection()
+};
 
 /// Runs @a body(begin, end) over ranges of [0, n), polling the interrupter once per range.
 template<typename Body>
@@ -115,26 +134,24 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
             (d & 2) ? sign * BLOCK_DIM : 0, (d & 4) ? sign * BLOCK_DIM : 0);
     };
 
+    tbb::enumerable_thread_specific<BlockScratch> scratches(std::cref(labels));
     // 1. Triangles per block, with block-local keys, sorted by the block that numbers them:
     //    itself, or for the keys on its max faces the neighbour beyond.
     forEachChunk(blockCount, options.threaded, interrupt,
                  [&](std::size_t begin, std::size_t end) {
-        LabelWindow::Accessor acc(labels.coarse->tree());
-        MaskWindow::Accessor maskAcc(labels.subdivided->tree());
-        auto window = std::make_unique<LabelWindow>();
-        auto mask = std::make_unique<MaskWindow>();
-        extraction::BlockFaceWalker walker(labels);
-        std::vector<std::uint8_t> owner; // per face key of a block: handOverDirection()
+        BlockScratch& scratch = scratches.local();
+        std::vector<std::uint8_t>& owner = scratch.owner;
         for (std::size_t n = begin; n < end; ++n) {
             // Blocks outside the owner box emit nothing but still number their keys.
             if (!options.ownerBox.empty() && !options.ownerBox.hasOverlap(
                     openvdb::CoordBBox(origins[n], origins[n].offsetBy(BLOCK_DIM - 1)))) {
                 continue;
             }
-            window->load(acc, origins[n]);
-            const bool hasMask = mask->load(maskAcc, origins[n]);
+            scratch.window.load(scratch.labels, origins[n]);
+            const bool hasMask = scratch.mask.load(scratch.subdivided, origins[n]);
             BlockMesh& block = blocks[n];
-            walker.walk(*window, hasMask ? mask.get() : nullptr, options.ownerBox, block);
+            scratch.walker.walk(scratch.window, hasMask ? &scratch.mask : nullptr,
+                                options.ownerBox, block);
             // Keys inside the block are its alone, numbered in their order; the face keys by
             // their owners, in step 2. The owners' lists are sized first: grown key by key,
             // they cost an allocation per doubling.
