@@ -16,8 +16,10 @@
 /// Memory: every (volume, setup) runs once in a forked child of its own. The parent never
 /// starts TBB itself.
 ///
-/// Usage: bench_frog [--reps N] [--frog-only] [--no-remesh] [--keep DIR]
-///            (remeshing takes most of the time: --no-remesh skips it, and writes the raw mesh)
+/// Usage: bench_frog [--reps N] [--frog-only] [--no-remesh] [--keep DIR] [--keep-heap]
+///            (remeshing takes most of the time: --no-remesh skips it, and writes the raw mesh;
+///            --keep-heap: glibc serves every block from its heap and keeps what is freed, as
+///            a long-running host reuses its memory, see keepHeap())
 ///        bench_frog --profile [--threads T]   one run of the frog's repair and extraction,
 ///            with callgrind instrumentation switched on only around it (run it under
 ///            valgrind --tool=callgrind --collect-atstart=no, or perf record).
@@ -37,6 +39,10 @@
 #include <openvdb/openvdb.h>
 
 #include <tbb/global_control.h>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h>
@@ -347,6 +353,20 @@ printThroughput(const char* setup, const TimeResult& t, const Sizes& z, bool rem
         1e-6 * rate(double(z.triangles), t.pipeline));
 }
 
+/// @brief Makes glibc serve large blocks from its heap instead of mmap(): freed, they stay
+/// for the next round instead of going back to the kernel, to be faulted in and cleared
+/// again. Frog's extraction writes ~160 MB of new arrays per run; on the project's virtual
+/// machines those faults cost the 2-thread runs more than the 1-thread ones.
+bool
+keepHeap()
+{
+#ifdef __GLIBC__
+    return mallopt(M_MMAP_MAX, 0) == 1;
+#else
+    return false;
+#endif
+}
+
 } // namespace
 
 int
@@ -354,7 +374,7 @@ main(int argc, char** argv)
 {
     vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
     int reps = 7, threads = 1;
-    bool frogOnly = false, profileRun = false, remesh = true;
+    bool frogOnly = false, profileRun = false, remesh = true, keptHeap = false;
     std::string keep;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
@@ -364,9 +384,10 @@ main(int argc, char** argv)
         else if (arg == "--no-remesh") remesh = false;
         else if (arg == "--profile") profileRun = true;
         else if (arg == "--keep" && i + 1 < argc) keep = argv[++i];
+        else if (arg == "--keep-heap") keptHeap = keepHeap();
         else {
             std::fprintf(stderr, "usage: %s [--reps N] [--frog-only] [--no-remesh] [--keep DIR] "
-                "| --profile [--threads T]\n", argv[0]);
+                "[--keep-heap] | --profile [--threads T]\n", argv[0]);
             return 2;
         }
     }
@@ -379,9 +400,9 @@ main(int argc, char** argv)
 
     std::printf("bench_frog: %d volume(s) x {serial, TBB 1 thread, TBB 2 threads}; "
         "%d timed rounds (interleaved) after a warm-up round; remeshing %s; .ply into %s\n"
-        "load average before: %s; heap: %s\n", volumes, reps,
+        "load average before: %s; heap: %s%s\n", volumes, reps,
         remesh ? "on" : "off (--no-remesh)", outDir.c_str(), loadAverage().c_str(),
-        heapPages().c_str());
+        heapPages().c_str(), keptHeap ? "; freed memory kept in the heap (--keep-heap)" : "");
 
     // Memory first: one process per (volume, setup), one run each.
     std::vector<std::array<MemoryResult, SETUP_COUNT>> mem{std::size_t(volumes)};
