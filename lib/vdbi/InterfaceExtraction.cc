@@ -171,6 +171,7 @@ extractInterfacePatches(const RefinedLabels& labels, const ExtractionOptions& op
         }
     }, 4);
     interrupt.throwIfStopped("extraction");
+    scratches.clear();   // the walkers are done: their buffers go before the output is made
     std::size_t triangleTotal = 0;
     for (const BlockMesh& block : blocks) triangleTotal += block.triangleCount();
     InterfaceMesh mesh;
