@@ -402,3 +402,36 @@ TEST_F(TestPatchSeparation, testMeetingTrianglesMoveTogether)
                   1e-12);
     }
 }
+
+// A second separation given the pairs the first left (known) moves exactly as one that
+// searches the whole mesh for them; known pairs are what it starts from: none known, nothing
+// moves although a pair meets.
+TEST_F(TestPatchSeparation, testKnownPairsReplaceTheSearch)
+{
+    // The free triangle of (1, 3) through the square: moves of 0.01 do not free it.
+    vdbi::InterfaceMesh mesh = squareThroughSmallTriangle();
+    const std::vector<std::uint8_t> movable = {0, 0, 0, 0, 1, 1, 1};
+    vdbi::SeparationSettings near = unitSettings();
+    near.maxMove = 0.01;
+    near.step = 0.01;
+    vdbi::TrianglePairs left;
+    ASSERT_GT(vdbi::separatePatches(mesh, movable, near, nullptr, &left), 0u);
+    ASSERT_EQ(left.size(), intersectingPairs(mesh).size());
+
+    vdbi::InterfaceMesh searched = mesh, seeded = mesh, unseeded = mesh;
+    vdbi::TrianglePairs leftSearched, leftSeeded;
+    const std::size_t count = vdbi::separatePatches(searched, movable, unitSettings(),
+                                                    nullptr, &leftSearched);
+    EXPECT_EQ(vdbi::separatePatches(seeded, movable, unitSettings(), nullptr, &leftSeeded,
+                                    &left), count);
+    EXPECT_EQ(leftSeeded, leftSearched);
+    EXPECT_EQ(std::vector<Vec3d>(seeded.points.begin(), seeded.points.end()),
+              std::vector<Vec3d>(searched.points.begin(), searched.points.end()));
+    EXPECT_NE(seeded.points[6], mesh.points[6]);   // it did move
+
+    const vdbi::TrianglePairs none;
+    EXPECT_EQ(vdbi::separatePatches(unseeded, movable, unitSettings(), nullptr, nullptr, &none),
+              0u);
+    EXPECT_EQ(std::vector<Vec3d>(unseeded.points.begin(), unseeded.points.end()),
+              std::vector<Vec3d>(mesh.points.begin(), mesh.points.end()));
+}

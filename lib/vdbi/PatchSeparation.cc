@@ -54,13 +54,14 @@ public:
     }
 
     /// The rounds; returns every pair of triangles meeting after them, ascending.
-    Pairs run()
+    /// @param known  all pairs meeting before them if the caller knows (else searched for)
+    Pairs run(const Pairs* known)
     {
         const std::size_t pointCount = mMesh.points.size();
         std::vector<char> active(mMesh.triangles.size(), 0), listed(pointCount, 0);
         std::vector<int> push(pointCount, 0);
         std::vector<std::uint32_t> corners;
-        Pairs meeting = mGrid.allMeetingPairs(meets(), mSettings.threaded);
+        Pairs meeting = known ? *known : mGrid.allMeetingPairs(meets(), mSettings.threaded);
         std::sort(meeting.begin(), meeting.end());
         // The pairs of this round's search: all at first, then those of triangles that moved.
         Pairs found = meeting;
@@ -420,9 +421,9 @@ private:
 std::size_t
 separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                 const SeparationSettings& settings, const PointArray* start,
-                TrianglePairs* meeting)
+                TrianglePairs* meeting, const TrianglePairs* known)
 {
-    Pairs left = Separation(mesh, movable, settings, start).run();
+    Pairs left = Separation(mesh, movable, settings, start).run(known);
     const std::size_t count = left.size();
     if (meeting) meeting->swap(left);
     return count;

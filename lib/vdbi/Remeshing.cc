@@ -116,16 +116,17 @@ forEachPatch(const InterfaceMesh& raw, bool threaded, const Body& body)
 
 /// @brief Separation, then splits of the triangles it leaves meeting with at most one free
 /// corner, separation around the new points, and flips; @a left is set to the pairs still
-/// meeting.
+/// meeting (all of them: a next call takes them as @a known, see separatePatches()).
 /// @details Every pair still meeting after the splits has a triangle with a corner among the
 /// points of the pairs separation left or the corners of the split triangles: splits keep
 /// the shape, and separateAround() moves only these corners. The flips look only there.
 void
 separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
-                     PointArray& start, const SeparationSettings& settings, TrianglePairs& left)
+                     PointArray& start, const SeparationSettings& settings, TrianglePairs& left,
+                     const TrianglePairs* known = nullptr)
 {
     TrianglePairs meeting;
-    separatePatches(mesh, movable, settings, &start, &meeting);
+    separatePatches(mesh, movable, settings, &start, &meeting, known);
     std::vector<std::uint32_t> suspects;
     for (const auto& [f, g] : meeting) {
         for (int k = 0; k < 3; ++k) {
@@ -275,7 +276,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         TrianglePairs leftAgain;
         SeparationSettings farther = separation;
         farther.maxMove = SEPARATION_MOVE_AGAIN * smallestVoxel;
-        separateSplitAndFlip(again, movable, start, farther, leftAgain);
+        separateSplitAndFlip(again, movable, start, farther, leftAgain, &left);
         if (leftAgain.size() < left.size()) out = std::move(again);
     }
     stats.separationSeconds = secondsSince(clock);
