@@ -20,6 +20,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <utility>
@@ -46,9 +47,25 @@ constexpr int CURVE_SMOOTHING = 10, SURFACE_SMOOTHING = 10;
 /// of the reference surface (measured against the fixed reference, so tips do not erode round
 /// by round; frog at 2 voxels: every raw face centre within 0.98 voxel of the result).
 constexpr double DEVIATION = 0.6;
-/// How far, in voxels, separatePatches() moves a vertex per round and at most; in the second
-/// cycle, where pairs are left, at most a little farther from where it started.
-constexpr double SEPARATION_STEP = 0.1, SEPARATION_MOVE = 0.4, SEPARATION_MOVE_AGAIN = 0.5;
+/// How far, in voxels, separatePatches() moves a vertex per round.
+constexpr double SEPARATION_STEP = 0.1;
+
+/// One cycle of separation, splits and flips (separateSplitAndFlip()).
+struct SeparationCycle
+{
+    double maxMove;     ///< in voxels, from where a vertex started
+    bool samplesMove;   ///< the inner samples of the feature curves move too
+};
+/// @brief The cycles: the first always, each next where pairs are left, kept only if it
+/// leaves fewer.
+/// @details The second lets inner vertices go a little farther. The third moves the curves'
+/// inner samples too (junctions stay, a sample stays shared by all its patches): in a wedge
+/// of one label at a curve, a triangle with two corners on the curve can be freed only by
+/// them. Frog at 2 voxels: 32 pairs after the first, 6 after the second, 0 after the third;
+/// at 4 voxels 225, 130, 92 (monu16 31 -> 24). Samples moving already in the second cycle
+/// left more in a trial (frog at 2 voxels 3, monu1 at 4 voxels 6 instead of 0). The
+/// farthest vertex and raw face stay where they were (0.77 and 0.98 voxel at 2 voxels).
+constexpr SeparationCycle SEPARATION_CYCLES[] = {{0.4, false}, {0.5, false}, {0.5, true}};
 
 /// World size of one voxel per axis from the point keys: the smallest ratio of world to key
 /// distance along triangle edges parallel to that axis of the key grid; zeros without keys.
@@ -120,13 +137,19 @@ forEachPatch(const InterfaceMesh& raw, bool threaded, const Body& body)
 /// @details Every pair still meeting after the splits has a triangle with a corner among the
 /// points of the pairs separation left or the corners of the split triangles: splits keep
 /// the shape, and separateAround() moves only these corners. The flips look only there.
+/// Separation moves the inner points (@a inner, appended to by the splits) and the curve
+/// samples @a movingSamples; splits and flips tell inner points by @a inner alone (an edge
+/// between two samples may be another patch's too).
 void
-separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
-                     PointArray& start, const SeparationSettings& settings, TrianglePairs& left,
+separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& inner,
+                     const std::vector<std::uint32_t>& movingSamples, PointArray& start,
+                     const SeparationSettings& settings, TrianglePairs& left,
                      const TrianglePairs* known = nullptr)
 {
+    std::vector<std::uint8_t> moving = inner;
+    for (const std::uint32_t v : movingSamples) moving[v] = 1;
     TrianglePairs meeting;
-    separatePatches(mesh, movable, settings, &start, &meeting, known);
+    separatePatches(mesh, moving, settings, &start, &meeting, known);
     std::vector<std::uint32_t> suspects;
     for (const auto& [f, g] : meeting) {
         for (int k = 0; k < 3; ++k) {
@@ -135,8 +158,9 @@ separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
         }
     }
     const std::size_t firstNew = mesh.points.size();
-    if (splitMeetingTriangles(mesh, movable, start, meeting) > 0) {
-        separateAround(mesh, movable, start, settings, firstNew);
+    if (splitMeetingTriangles(mesh, inner, start, meeting) > 0) {
+        moving.resize(inner.size(), 1);
+        separateAround(mesh, moving, start, settings, firstNew);
     }
     for (const openvdb::Vec3I& t : mesh.triangles) {
         if (t[0] >= firstNew || t[1] >= firstNew || t[2] >= firstNew) {
@@ -145,7 +169,7 @@ separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
     }
     std::sort(suspects.begin(), suspects.end());
     suspects.erase(std::unique(suspects.begin(), suspects.end()), suspects.end());
-    flipMeetingEdges(mesh, movable, settings.cellSize, settings.threaded, suspects, &left);
+    flipMeetingEdges(mesh, inner, settings.cellSize, settings.threaded, suspects, &left);
 }
 
 double
@@ -255,29 +279,38 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     stats.remeshingSeconds = roundSeconds + secondsSince(clock);
 
     checkInterrupt(options.interrupter, "remeshing");
-    std::vector<std::uint8_t> movable(out.points.size(), 1);
-    std::fill(movable.begin(), movable.begin() + sampleCount, 0);
-    SeparationSettings separation;
-    separation.cellSize = options.edgeLength;
-    separation.step = SEPARATION_STEP * smallestVoxel;
-    separation.maxMove = SEPARATION_MOVE * smallestVoxel;
-    separation.threaded = options.threaded;
+    std::vector<std::uint8_t> inner(out.points.size(), 1);
+    std::fill(inner.begin(), inner.begin() + sampleCount, 0);
+    std::vector<std::uint32_t> innerSamples;
+    for (std::uint32_t i = 0; i < sampleCount; ++i) {
+        if (curves.sampleCurves[i] != FeatureCurves::NO_CURVE) innerSamples.push_back(i);
+    }
     PointArray start = out.points;
     TrianglePairs left;
-    separateSplitAndFlip(out, movable, start, separation, left);
-    // Where pairs are left, the cycle runs once more: its separation moves the points the
-    // splits and flips gave it, up to 0.5 voxel from their start instead of 0.4. Its result
-    // is kept only if it leaves fewer meeting pairs. Frog at 2 voxels: 32 pairs after one
-    // cycle, 17 after two with the same bound, 6 with the farther one; at 4 voxels 225,
-    // 146, 130; the farthest vertex and raw face stay where they were (0.77 and 0.98 voxel
-    // at 2 voxels). A second cycle can leave more (monu1 at 4 voxels, same bound: 6, 10).
-    if (!left.empty()) {
-        InterfaceMesh again = out;   // movable and start are not needed after this
+    for (std::size_t c = 0; c < std::size(SEPARATION_CYCLES); ++c) {
+        if (c > 0 && left.empty()) break;
+        const SeparationCycle& cycle = SEPARATION_CYCLES[c];
+        SeparationSettings separation;
+        separation.cellSize = options.edgeLength;
+        separation.step = SEPARATION_STEP * smallestVoxel;
+        separation.maxMove = cycle.maxMove * smallestVoxel;
+        separation.threaded = options.threaded;
+        const std::vector<std::uint32_t> noSamples;
+        const std::vector<std::uint32_t>& samples = cycle.samplesMove ? innerSamples : noSamples;
+        if (c == 0) {
+            separateSplitAndFlip(out, inner, samples, start, separation, left);
+            continue;
+        }
+        // A cycle whose result was not kept appended its split points: they go.
+        inner.resize(out.points.size());
+        start.resize(out.points.size());
+        InterfaceMesh again = out;
         TrianglePairs leftAgain;
-        SeparationSettings farther = separation;
-        farther.maxMove = SEPARATION_MOVE_AGAIN * smallestVoxel;
-        separateSplitAndFlip(again, movable, start, farther, leftAgain, &left);
-        if (leftAgain.size() < left.size()) out = std::move(again);
+        separateSplitAndFlip(again, inner, samples, start, separation, leftAgain, &left);
+        if (leftAgain.size() < left.size()) {
+            out = std::move(again);
+            left.swap(leftAgain);
+        }
     }
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;

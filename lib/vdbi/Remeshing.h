@@ -72,6 +72,9 @@ struct RemeshStatistics
 ///    vertices apart along the normals, at most 0.4 voxel.
 /// 6. An inner edge of a triangle that still meets another is flipped where the other
 ///    diagonal of its two triangles meets fewer (flipMeetingEdges()).
+/// 7. Where pairs are left, steps 5 and 6 run again with a bound of 0.5 voxel, then once
+///    more with the inner curve samples moving too (junctions stay), each kept only if it
+///    leaves fewer pairs.
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.
