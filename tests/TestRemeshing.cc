@@ -213,8 +213,9 @@ expectSameTopology(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& ou
 /// How much of the geometry checkRemeshing() asserts.
 enum class Geometry
 {
-    Asserted,   ///< closeness both ways within the bound, no intersecting triangles
-    Printed     ///< measured and printed only (open defect on this input, see the report)
+    Asserted,    ///< closeness both ways within the bound, no intersecting triangles
+    Crossings,   ///< no intersecting triangles; closeness printed only (open, see the report)
+    Printed      ///< measured and printed only (open defect on this input, see the report)
 };
 
 /// The whole check for one volume at one target length in world units: the guarantees
@@ -261,8 +262,8 @@ checkRemeshing(const std::string& name, const vdbi::InterfaceMesh& raw, double t
                 found.empty() ? "none" : vdbi_test::describeIntersections(out, found).c_str());
     std::printf("[ %s ] %zu raw triangles -> %s\n", name.c_str(), raw.triangles.size(),
                 vdbi_test::measureMeshQuality(out, target).summary().c_str());
+    if (geometry != Geometry::Printed) EXPECT_TRUE(found.empty()) << name;
     if (geometry == Geometry::Asserted) {
-        EXPECT_TRUE(found.empty()) << name;
         EXPECT_LE(c.vertexToRaw, maxDistance) << name;
         EXPECT_LE(c.rawToOutput, maxDistance) << name;
     }
@@ -488,18 +489,31 @@ TEST_F(TestRemeshing, testNoiseVolumes)
     }
 }
 
-// The sample volumes but the frog: voxel art with one-voxel bumps and rods and labels of a
-// few voxels (chr_knight: 21 labels in 398 voxels), thin layers (monu1). The guarantees and
-// every patch hold; the geometry is printed (DISABLED_testSampleVolumesGeometry).
+// The sample volumes but the frog and menger at four voxels: voxel art with one-voxel bumps
+// and rods and labels of a few voxels (chr_knight: 21 labels in 398 voxels), thin layers
+// (monu1). The guarantees, every patch and no intersecting triangles hold (chr_knight's last
+// 3 pairs and monu16's last 24 were knots that collapses untie, MeetingEdgeCollapses.h);
+// closeness is printed: remeshed points lie up to 1.7 voxels from the raw faces
+// (DISABLED_testSampleVolumesGeometry).
 TEST_F(TestRemeshing, testSampleVolumes)
 {
-    const auto knight = extract(*vdbi::readLabelVolume(vdbi_test::dataPath("chr_knight.vox")));
-    for (double voxels : {1.0, 2.0, 4.0}) {
-        checkRemeshing("chr_knight, " + std::to_string(int(voxels)) + " voxels", knight, voxels,
-                       Geometry::Printed);
+    for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox"}) {
+        const auto raw = extract(*vdbi::readLabelVolume(vdbi_test::dataPath(file)));
+        checkRemeshing(std::string(file) + ", 4 voxels", raw, 4.0, Geometry::Crossings);
     }
-    const auto monu1 = extract(*vdbi::readLabelVolume(vdbi_test::dataPath("monu1.vox")));
-    checkRemeshing("monu1, 2 voxels", monu1, 2.0, Geometry::Printed);
+}
+
+// Two voxels, the length, on the voxel-art samples: closeness within one voxel both
+// ways, no intersecting triangles. menger's last 5 pairs were a knot of its one patch, six
+// triangles folded through each other around six free vertices, that no move or flip frees
+// and two collapses untie (MeetingEdgeCollapses.h). About 80 s, most of it menger's: one
+// patch, remeshed on one thread, and the closeness of its 670 k raw faces.
+TEST_F(TestRemeshing, testVoxelArtAtTwoVoxels)
+{
+    for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {
+        const auto raw = extract(*vdbi::readLabelVolume(vdbi_test::dataPath(file)));
+        checkRemeshing(std::string(file) + ", 2 voxels", raw, 2.0);
+    }
 }
 
 // The geometry on the voxel-art samples at the default edge length, one voxel:
@@ -534,14 +548,12 @@ TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 }
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
-// voxel both ways and no intersecting triangles. Fails today (open): intersecting pairs (the
-// checker stops at 100) at 4 voxels on chr_knight, monu16 and menger, and on menger at 2
-// (within one patch); none at 1 voxel on any volume, nor at 2 on chr_knight, monu1, monu16
-// and the frog (bench_remesh --check: chr_knight 3, monu16 24, menger 486, frog 92 at 4
-// voxels, menger 5 at 2). At 4
-// voxels every raw face lies within one voxel of the remeshed surface, but remeshed inner
-// vertices lie up to 1.8 voxels from the raw one (menger; monu16 1.7, chr_knight 1.3);
-// within one voxel at 1 and 2. Takes about 9 minutes.
+// voxel both ways and no intersecting triangles. Fails today (open) at 4 voxels: pairs
+// intersect on menger (463, all within its one patch) and the frog (39), none on the other
+// volumes and none at 1 and 2 voxels (bench_remesh --check); at 4 voxels every raw face lies
+// within one voxel of the remeshed surface but remeshed inner vertices lie up to 1.8 voxels
+// from the raw one (menger; monu16 1.7, chr_knight 1.3); within one voxel at 1 and 2. Takes
+// about 9 minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {

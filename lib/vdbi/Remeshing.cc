@@ -5,6 +5,7 @@
 #include <vdbi/FeatureCurves.h>
 #include <vdbi/Interruption.h>
 #include <vdbi/IsotropicRemeshing.h>
+#include <vdbi/MeetingEdgeCollapses.h>
 #include <vdbi/MeetingEdgeFlips.h>
 #include <vdbi/PatchBoundary.h>
 #include <vdbi/PatchSeparation.h>
@@ -313,6 +314,8 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
             left.swap(leftAgain);
         }
     }
+    // Knots that no move or flip frees: collapse free corners (last: it renumbers points).
+    collapseMeetingEdges(out, inner, options.edgeLength, options.threaded, left);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;

@@ -41,7 +41,7 @@ struct RemeshStatistics
     double curveSeconds = 0.0;       ///< feature curves found, smoothed and resampled
     double referenceSeconds = 0.0;   ///< the reference surfaces of all patches
     double remeshingSeconds = 0.0;   ///< boundaries attached, rounds, output assembled
-    double separationSeconds = 0.0;  ///< crossing patches pushed apart, edges flipped
+    double separationSeconds = 0.0;  ///< separation: moves, splits, flips and collapses
 };
 
 /// @brief Remeshes every patch to the target edge length, keeping every guarantee of the
@@ -75,6 +75,8 @@ struct RemeshStatistics
 /// 7. Where pairs are left, steps 5 and 6 run again with a bound of 0.5 voxel, then once
 ///    more with the inner curve samples moving too (junctions stay), each kept only if it
 ///    leaves fewer pairs.
+/// 8. Where pairs are still left, a free corner of a meeting triangle is collapsed into a
+///    neighbour where that leaves fewer (collapseMeetingEdges(): knots of one patch).
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.
