@@ -21,16 +21,19 @@ InterfaceMesh::triangleLabels() const
 
 void
 trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& first,
-                      std::vector<std::uint32_t>& around)
+                      std::vector<std::uint32_t>& around, const std::vector<char>* skip)
 {
+    auto skipped = [&](std::size_t f) { return skip && (*skip)[f]; };
     first.assign(mesh.points.size() + 1, 0);
-    around.resize(3 * mesh.triangles.size());
-    for (const openvdb::Vec3I& t : mesh.triangles) {
-        for (int i = 0; i < 3; ++i) ++first[t[i] + 1];
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+        if (skipped(f)) continue;
+        for (int i = 0; i < 3; ++i) ++first[mesh.triangles[f][i] + 1];
     }
     for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
+    around.resize(first.back());
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
     for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        if (skipped(f)) continue;
         for (int i = 0; i < 3; ++i) around[fill[mesh.triangles[f][i]]++] = f;
     }
 }

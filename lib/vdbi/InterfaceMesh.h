@@ -88,9 +88,10 @@ struct InterfaceMesh
 std::vector<std::uint32_t> trianglePatches(const InterfaceMesh& mesh);
 
 /// @brief The triangles around every point of @a mesh: around[first[v] .. first[v + 1]),
-/// ascending.
+/// ascending; those flagged in @a skip (one flag per triangle), if given, left out.
 void trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& first,
-                           std::vector<std::uint32_t>& around);
+                           std::vector<std::uint32_t>& around,
+                           const std::vector<char>* skip = nullptr);
 
 /// @brief The triangle across edge (@a u, @a v) of triangle @a f if the edge is inner to f's
 /// patch: the only other triangle with that edge, of the same patch (@a patchOf, from

@@ -20,6 +20,25 @@ hasCorner(const Vec3I& t, std::uint32_t v)
     return t[0] == v || t[1] == v || t[2] == v;
 }
 
+/// An axis-aligned box.
+struct Box
+{
+    Vec3d low, high;
+
+    void add(const Box& b)
+    {
+        low = openvdb::math::minComponent(low, b.low);
+        high = openvdb::math::maxComponent(high, b.high);
+    }
+    bool overlaps(const Box& b) const
+    {
+        for (int k = 0; k < 3; ++k) {
+            if (high[k] < b.low[k] || b.high[k] < low[k]) return false;
+        }
+        return true;
+    }
+};
+
 /// The collapse of free point u into its neighbour v.
 struct Collapse
 {
@@ -56,15 +75,19 @@ public:
                 Collapse best;
                 for (const std::uint32_t u : {t[0], t[1], t[2]}) {
                     if (!mMovable[u]) continue;
-                    neighbours(u, mNeighbours);
-                    for (const std::uint32_t v : mNeighbours) {
+                    neighbours(u, mRing);
+                    for (const std::uint32_t v : mRing) {
+                        if (!prepareCollapse(u, v)) continue;
+                        // A collapse frees at most the pairs it removes: one that cannot free
+                        // more than the best so far is not counted to the end.
+                        const int before = meetingPairs(mOld, std::numeric_limits<int>::max());
                         // v where it is; if it is free, half way or where u is too.
                         const Vec3d pu = mMesh.points[u], pv = mMesh.points[v];
                         const Vec3d places[3] = {pv, (pu + pv) * 0.5, pu};
-                        for (int i = 0; i < (mMovable[v] ? 3 : 1); ++i) {
-                            Collapse collapse;
-                            if (makeCollapse(u, v, places[i], best.gain, collapse)) {
-                                best = collapse;
+                        for (int i = 0; i < (mMovable[v] ? 3 : 1) && before > best.gain; ++i) {
+                            const int after = pairsAfter(v, places[i], before - best.gain);
+                            if (after >= 0 && after < before - best.gain) {
+                                best = {u, v, places[i], before - after};
                             }
                         }
                     }
@@ -107,23 +130,8 @@ public:
     }
 
 private:
-    /// The triangles around every point, of those not removed (findAround()).
-    void findAround()
-    {
-        const std::size_t count = mMesh.points.size();
-        mFirst.assign(count + 1, 0);
-        for (std::size_t f = 0; f < mMesh.triangles.size(); ++f) {
-            if (mRemoved[f]) continue;
-            for (int i = 0; i < 3; ++i) ++mFirst[mMesh.triangles[f][i] + 1];
-        }
-        for (std::size_t v = 0; v < count; ++v) mFirst[v + 1] += mFirst[v];
-        mAround.resize(mFirst[count]);
-        std::vector<std::uint32_t> fill(mFirst.begin(), mFirst.end() - 1);
-        for (std::uint32_t f = 0; f < mMesh.triangles.size(); ++f) {
-            if (mRemoved[f]) continue;
-            for (int i = 0; i < 3; ++i) mAround[fill[mMesh.triangles[f][i]]++] = f;
-        }
-    }
+    /// The triangles around every point, of those not removed.
+    void findAround() { trianglesAroundPoints(mMesh, mFirst, mAround, &mRemoved); }
 
     /// The points sharing a triangle with @a u, ascending, into @a out.
     void neighbours(std::uint32_t u, std::vector<std::uint32_t>& out) const
@@ -137,6 +145,16 @@ private:
         out.erase(std::unique(out.begin(), out.end()), out.end());
     }
 
+    /// The bounding box of triangle @a t.
+    Box boxOf(const Vec3I& t) const
+    {
+        using openvdb::math::maxComponent;
+        using openvdb::math::minComponent;
+        const PointArray& points = mMesh.points;
+        return {minComponent(points[t[0]], minComponent(points[t[1]], points[t[2]])),
+                maxComponent(points[t[0]], maxComponent(points[t[1]], points[t[2]]))};
+    }
+
     /// How many triangles of patch @a patch are around point @a v.
     int trianglesOfPatchAt(std::uint32_t v, std::uint32_t patch) const
     {
@@ -147,10 +165,10 @@ private:
         return count;
     }
 
-    /// @brief The collapse of free point @a u into @a v, v at @a position (its own unless it
-    /// is free too), if it is allowed and frees more than @a better pairs.
-    bool makeCollapse(std::uint32_t u, std::uint32_t v, const Vec3d& position, int better,
-                      Collapse& collapse)
+    /// @brief Is the collapse of free point @a u into its neighbour @a v allowed (mRing: the
+    /// neighbours of u)? If so, the triangles it changes, as they are and as they become
+    /// (v's index for u's), into mOld and mNew, and those they can meet into mCandidates.
+    bool prepareCollapse(std::uint32_t u, std::uint32_t v)
     {
         if (mChanged[u] || mChanged[v]) return false;
         const std::uint32_t patch = mPatchOf[mAround[mFirst[u]]];
@@ -171,7 +189,6 @@ private:
             }
         }
         // Link condition: u and v have no common neighbour in the patch but those across.
-        neighbours(u, mRing);
         for (std::uint32_t k = mFirst[v]; k < mFirst[v + 1]; ++k) {
             const std::uint32_t g = mAround[k];
             if (mPatchOf[g] != patch) continue;
@@ -183,7 +200,6 @@ private:
             }
         }
         if (!mMovable[v]) {
-            if (position != mMesh.points[v]) return false;
             for (const std::uint32_t w : mRing) {
                 if (w != v && w != across[0] && w != across[1] && !mMovable[w]) return false;
             }
@@ -191,9 +207,7 @@ private:
             return false;
         }
 
-        // The triangles around u and v change: those with both go, the others take v for u,
-        // with v at its new position.
-        PointArray& points = mMesh.points;
+        // The triangles around u and v change: those with both go, the others take v for u.
         mOld.clear();
         mNew.clear();
         for (const std::uint32_t w : {u, v}) {
@@ -207,28 +221,24 @@ private:
                 mNew.push_back(n);
             }
         }
-        Vec3d low = points[u], high = low;
-        for (const std::uint32_t w : mRing) {
-            low = openvdb::math::minComponent(low, points[w]);
-            high = openvdb::math::maxComponent(high, points[w]);
-        }
-        for (const Vec3I& t : mOld) {
-            for (int i = 0; i < 3; ++i) {
-                low = openvdb::math::minComponent(low, points[t[i]]);
-                high = openvdb::math::maxComponent(high, points[t[i]]);
-            }
-        }
-        findCandidates(low, high);
+        // The triangles around u hold u and all its neighbours.
+        Box around = boxOf(mOld.front());
+        for (const Vec3I& t : mOld) around.add(boxOf(t));
+        findCandidates(around);
         mCandidates.erase(std::remove_if(mCandidates.begin(), mCandidates.end(),
                                          [&](std::uint32_t x) {
                                              const Vec3I& w = mMesh.triangles[x];
                                              return hasCorner(w, u) || hasCorner(w, v);
                                          }),
                           mCandidates.end());
-        // A collapse frees at most the pairs it removes: one that cannot free more than
-        // @a better is not counted to the end.
-        const int before = meetingPairs(mOld, std::numeric_limits<int>::max());
-        if (before <= better) return false;
+        return true;
+    }
+
+    /// @brief The meeting pairs of mNew, with v at @a position, counted up to @a limit; -1 if
+    /// a triangle of mNew has no area there.
+    int pairsAfter(std::uint32_t v, const Vec3d& position, int limit)
+    {
+        PointArray& points = mMesh.points;
         const Vec3d kept = points[v];
         points[v] = position;
         bool flat = false;
@@ -236,14 +246,9 @@ private:
             flat = flat || hasNoArea(toPoint(points[n[0]]), toPoint(points[n[1]]),
                                      toPoint(points[n[2]]));
         }
-        const int after = flat ? 0 : meetingPairs(mNew, before - better);
+        const int after = flat ? -1 : meetingPairs(mNew, limit);
         points[v] = kept;
-        if (flat || after >= before - better) return false;
-        collapse.u = u;
-        collapse.v = v;
-        collapse.position = position;
-        collapse.gain = before - after;
-        return true;
+        return after;
     }
 
     /// @brief The meeting pairs of @a changed with each other and with mCandidates, counted
@@ -253,36 +258,21 @@ private:
         const PointArray& points = mMesh.points;
         // Triangles whose boxes do not overlap cannot meet: most candidates, as cells are as
         // wide as an edge.
-        auto boxOf = [&](const Vec3I& t, Vec3d& low, Vec3d& high) {
-            using openvdb::math::maxComponent;
-            using openvdb::math::minComponent;
-            low = minComponent(points[t[0]], minComponent(points[t[1]], points[t[2]]));
-            high = maxComponent(points[t[0]], maxComponent(points[t[1]], points[t[2]]));
-        };
-        auto overlap = [](const Box& a, const Box& b) {
-            for (int k = 0; k < 3; ++k) {
-                if (a.high[k] < b.low[k] || b.high[k] < a.low[k]) return false;
-            }
-            return true;
-        };
         mChangedBoxes.resize(changed.size());
-        for (std::size_t i = 0; i < changed.size(); ++i) {
-            boxOf(changed[i], mChangedBoxes[i].low, mChangedBoxes[i].high);
-        }
+        for (std::size_t i = 0; i < changed.size(); ++i) mChangedBoxes[i] = boxOf(changed[i]);
         int count = 0;
         for (const std::uint32_t x : mCandidates) {
             const Vec3I& w = mMesh.triangles[x];
-            Box box;
-            boxOf(w, box.low, box.high);
+            const Box box = boxOf(w);
             for (std::size_t i = 0; i < changed.size(); ++i) {
-                if (!overlap(mChangedBoxes[i], box)) continue;
+                if (!mChangedBoxes[i].overlaps(box)) continue;
                 count += trianglesMeet(points, changed[i], w);
                 if (count >= limit) return count;
             }
         }
         for (std::size_t i = 0; i < changed.size(); ++i) {
             for (std::size_t j = i + 1; j < changed.size(); ++j) {
-                if (!overlap(mChangedBoxes[i], mChangedBoxes[j])) continue;
+                if (!mChangedBoxes[i].overlaps(mChangedBoxes[j])) continue;
                 count += trianglesMeet(points, changed[i], changed[j]);
                 if (count >= limit) return count;
             }
@@ -315,13 +305,12 @@ private:
         }
     }
 
-    /// @brief Every triangle not removed that can meet one within the box [@a low, @a high]
-    /// into mCandidates: its box shares a cell with it, or a collapse changed it (the grid
-    /// has its old box).
-    void findCandidates(const Vec3d& low, const Vec3d& high)
+    /// @brief Every triangle not removed that can meet one within @a box into mCandidates:
+    /// its box shares a cell with it, or a collapse changed it (the grid has its old box).
+    void findCandidates(const Box& box)
     {
         mCandidates.assign(mCollapsed.begin(), mCollapsed.end());
-        mGrid.forEachInBox(low, high, [&](std::uint32_t x) { mCandidates.push_back(x); });
+        mGrid.forEachInBox(box.low, box.high, [&](std::uint32_t x) { mCandidates.push_back(x); });
         std::sort(mCandidates.begin(), mCandidates.end());
         mCandidates.erase(std::unique(mCandidates.begin(), mCandidates.end()), mCandidates.end());
         mCandidates.erase(std::remove_if(mCandidates.begin(), mCandidates.end(),
@@ -333,16 +322,12 @@ private:
     void findPartners(std::uint32_t h)
     {
         const Vec3I& t = mMesh.triangles[h];
-        const PointArray& points = mMesh.points;
-        Vec3d low = points[t[0]], high = low;
-        for (int i = 1; i < 3; ++i) {
-            low = openvdb::math::minComponent(low, points[t[i]]);
-            high = openvdb::math::maxComponent(high, points[t[i]]);
-        }
-        findCandidates(low, high);
+        findCandidates(boxOf(t));
         mPartners.clear();
         for (const std::uint32_t x : mCandidates) {
-            if (x != h && trianglesMeet(points, t, mMesh.triangles[x])) mPartners.push_back(x);
+            if (x != h && trianglesMeet(mMesh.points, t, mMesh.triangles[x])) {
+                mPartners.push_back(x);
+            }
         }
     }
 
@@ -405,13 +390,10 @@ private:
     std::vector<char> mChanged;
     /// Triangles a collapse changed (their boxes are no longer the grid's).
     std::vector<std::uint32_t> mCollapsed;
-    std::vector<std::uint32_t> mNeighbours, mRing, mCandidates, mPartners;
+    /// Scratch: the neighbours of the point being collapsed, the candidates, the partners.
+    std::vector<std::uint32_t> mRing, mCandidates, mPartners;
     std::vector<Vec3I> mOld, mNew;
-    struct Box
-    {
-        Vec3d low, high;
-    };
-    std::vector<Box> mChangedBoxes;
+    std::vector<Box> mChangedBoxes;   ///< scratch of meetingPairs()
 };
 
 } // namespace
