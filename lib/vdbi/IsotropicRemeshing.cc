@@ -47,10 +47,13 @@ public:
     IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings);
     ~IsotropicRemesher() { mMesh.remove_property(mFirstCovered); }
 
+    void moveOffChords();
     void splitLongEdges();
+    /// Collapses edges shorter than 4/5 of @a target (not the target of the settings in the
+    /// first round's coarsening passes).
     /// @param neighboursOnly  test the new fan for crossings with the faces across its edges
-    ///                        only (the first pass, from the staircase, has millions)
-    void collapseShortEdges(bool neighboursOnly);
+    ///                        only (the first round, from the staircase, has millions)
+    void collapseShortEdges(double target, bool neighboursOnly);
     void equalizeValences();
     void removeCaps();
     void flipSharpTriangles();
@@ -58,7 +61,7 @@ public:
     void projectToReference();
 
 private:
-    bool isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position);
+    bool isCollapseAllowed(HalfedgeHandle h, double target, bool toMidpoint, Point& position);
     bool isFlipAllowed(EdgeHandle e);
     void collapseEdge(HalfedgeHandle h, const Point& position);
     void flipEdge(EdgeHandle e);
@@ -305,6 +308,38 @@ IsotropicRemesher::collapseEdge(HalfedgeHandle h, const Point& position)
 }
 
 void
+IsotropicRemesher::moveOffChords()
+{
+    // A free vertex of a triangle without area (the centre of a split voxel face, on the
+    // chord between two curve samples) goes to the mean of its neighbours, where all its
+    // triangles have area and face the way of its reference normal.
+    for (const VertexHandle v : mMesh.vertices()) {
+        if (!isFree(v)) continue;
+        bool flat = false;
+        for (const FaceHandle f : mMesh.vf_range(v)) {
+            const Triangle t = triangle(f);
+            flat = flat || hasNoArea(t.a, t.b, t.c);
+        }
+        if (!flat) continue;
+        Point mean(0, 0, 0);
+        int count = 0;
+        for (const VertexHandle w : mMesh.vv_range(v)) {
+            mean += mMesh.point(w);
+            ++count;
+        }
+        mean /= double(count);
+        bool fine = true;
+        for (const HalfedgeHandle h : mMesh.voh_range(v)) {
+            if (!mMesh.face_handle(h).is_valid()) continue;
+            const Point& b = mMesh.point(mMesh.to_vertex_handle(h));
+            const Point& c = mMesh.point(mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h)));
+            fine = fine && !hasNoArea(mean, b, c) && (((b - mean) % (c - mean)) | refNormal(v)) > 0.0;
+        }
+        if (fine) mMesh.set_point(v, mean);
+    }
+}
+
+void
 IsotropicRemesher::splitLongEdges()
 {
     // Boundary edges are the curve samples' segments: never split.
@@ -326,7 +361,8 @@ IsotropicRemesher::splitLongEdges()
 }
 
 bool
-IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& position)
+IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, double target, bool toMidpoint,
+                                     Point& position)
 {
     const VertexHandle v0 = mMesh.from_vertex_handle(h), v1 = mMesh.to_vertex_handle(h);
     if (!isFree(v0)) return false;   // boundary (sample) vertices never go
@@ -336,8 +372,8 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
     // An edge under half the target is out of the range the result is judged by (0.5 to
     // 1.5 x target): it may go even where that makes edges up to 1.5 x target, which the
     // next round splits (a needle next to long edges otherwise stays).
-    const double high2 = (p1 - p0).sqrnorm() < 0.25 * mSettings.target * mSettings.target
-        ? 2.25 * mSettings.target * mSettings.target : mSettings.high2;
+    const double high2 = (p1 - p0).sqrnorm() < 0.25 * target * target
+        ? 2.25 * target * target : 16.0 / 9.0 * target * target;
     const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h));
     const VertexHandle vr = mMesh.to_vertex_handle(
         mMesh.next_halfedge_handle(mMesh.opposite_halfedge_handle(h)));
@@ -429,9 +465,10 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, bool toMidpoint, Point& p
 }
 
 void
-IsotropicRemesher::collapseShortEdges(bool neighboursOnly)
+IsotropicRemesher::collapseShortEdges(double target, bool neighboursOnly)
 {
     mNeighboursOnly = neighboursOnly;
+    const double low2 = 0.64 * target * target;
     countValences();
     std::size_t collapses = 0;
     const std::size_t count = mMesh.n_edges();
@@ -440,7 +477,7 @@ IsotropicRemesher::collapseShortEdges(bool neighboursOnly)
         if (mMesh.status(e).deleted()) continue;
         const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
         const VertexHandle a = mMesh.from_vertex_handle(h), b = mMesh.to_vertex_handle(h);
-        if ((mMesh.point(a) - mMesh.point(b)).sqrnorm() >= mSettings.low2) continue;
+        if ((mMesh.point(a) - mMesh.point(b)).sqrnorm() >= low2) continue;
         if (!isFree(a) && !isFree(b)) continue;
         // On flat ground both go to the midpoint (the paper's rule), removing the vertex of
         // lower valence; on a crease or corner the sharper vertex stays where it is.
@@ -450,7 +487,7 @@ IsotropicRemesher::collapseShortEdges(bool neighboursOnly)
         if (flat ? valence(b) < valence(a) : fb > fa) std::swap(first, second);
         for (const HalfedgeHandle g : {first, second}) {
             Point position;
-            if (!isCollapseAllowed(g, flat, position)) continue;
+            if (!isCollapseAllowed(g, target, flat, position)) continue;
             const VertexHandle gone = mMesh.from_vertex_handle(g), kept = mMesh.to_vertex_handle(g);
             const VertexHandle vl = mMesh.to_vertex_handle(mMesh.next_halfedge_handle(g));
             const VertexHandle vr = mMesh.to_vertex_handle(
@@ -765,8 +802,26 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
     IsotropicRemesher remesher(patch, settings);
     for (int it = 0; it < settings.iterations; ++it) {
         if (interrupt.poll()) return false;
+        if (it == 0) remesher.moveOffChords();
         remesher.splitLongEdges();
-        remesher.collapseShortEdges(it == 0);
+        if (it == 0) {
+            // From the staircase through halved targets: where the extraction refined the
+            // voxels (to a fifth), collapsing straight to the target grows fans of a dozen
+            // triangles and more, and the fold guard's cost grows with a fan's square. Only
+            // the first pass has millions of collapses: the later ones test their fans
+            // against all faces around (fewer folds left for separation).
+            std::vector<double> targets;
+            for (double t = 0.5 * settings.target;
+                 settings.finestCoarsening > 0.0 && t >= settings.finestCoarsening; t *= 0.5) {
+                targets.insert(targets.begin(), t);
+            }
+            targets.push_back(settings.target);
+            for (std::size_t k = 0; k < targets.size(); ++k) {
+                remesher.collapseShortEdges(targets[k], k == 0);
+            }
+        } else {
+            remesher.collapseShortEdges(settings.target, false);
+        }
         remesher.equalizeValences();
         remesher.removeCaps();
         remesher.tangentialRelaxation();

@@ -17,8 +17,10 @@ namespace vdbi {
 struct RemeshSettings
 {
     double target = 1.0;
-    double low2 = 0.0;             ///< (4/5 target)^2: shorter edges are collapsed
     double high2 = 0.0;            ///< (4/3 target)^2: longer edges are split
+    /// The first round collapses towards target / 2^k, ..., target / 4, target / 2 first, for
+    /// every target / 2^k no smaller than this (0: not at all).
+    double finestCoarsening = 0.0;
     int iterations = 5;
     /// (Largest distance)^2 between a reference surface point (off the curves) and the
     /// surface after a collapse, flip or relaxation move, unless it was farther before: keeps
@@ -33,7 +35,9 @@ struct RemeshSettings
 };
 
 /// @brief Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than
-/// 4/5 (to the midpoint on flat ground, onto the sharper end on a crease), flip edges towards
+/// 4/5 (to the midpoint on flat ground, onto the sharper end on a crease; in the first round
+/// first towards halved targets, RemeshSettings::finestCoarsening, after moving free vertices
+/// off the chords between curve samples), flip edges towards
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 /// smallest angle), tangential relaxation, projection onto the reference surface. After the
 /// last round, edges of triangles under 25 degrees are flipped where that raises the smaller
@@ -48,7 +52,7 @@ struct RemeshSettings
 /// normals; no collapse, flip or move (relaxation with projection) makes the triangles it
 /// changes cross each other or the faces around more often than the ones they replace did
 /// (FoldGuard.h; only where neighbours turn by over 120 degrees or a fan winds
-/// twice, and in the first round's collapses, from the staircase, against the faces across
+/// twice, and in the first collapse pass, from the staircase, against the faces across
 /// the fan's edges only); no relaxation move drags a vertex across a crease, and a vertex
 /// on a folded triangle relaxes to the mean of its neighbours (unfolding what attaching the
 /// samples folded). So the patch keeps its topology. Every loop runs in a fixed order (edge
