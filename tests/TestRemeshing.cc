@@ -493,8 +493,8 @@ TEST_F(TestRemeshing, testNoiseVolumes)
 // and rods and labels of a few voxels (chr_knight: 21 labels in 398 voxels), thin layers
 // (monu1). The guarantees, every patch and no intersecting triangles hold (chr_knight's last
 // 3 pairs and monu16's last 24 were knots that collapses untie, MeetingEdgeCollapses.h);
-// closeness is printed: remeshed points lie up to 1.7 voxels from the raw faces
-// (DISABLED_testSampleVolumesGeometry).
+// closeness is printed: remeshed points lie up to 1.2 voxels from the raw faces (monu16;
+// DISABLED_testSampleVolumesGeometry).
 TEST_F(TestRemeshing, testSampleVolumes)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox"}) {
