@@ -5,47 +5,28 @@
 #include <vdbi/EdgeCollapse.h>
 #include <vdbi/EdgeDiamond.h>
 #include <vdbi/FoldGuard.h>
+#include <vdbi/ReferenceCoverage.h>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 namespace vdbi {
 
 namespace {
 
-using Vec3d = openvdb::Vec3d;
 using Point = TriMesh::Point;
 using VertexHandle = TriMesh::VertexHandle;
 using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using EdgeHandle = TriMesh::EdgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
-/// Squared distance from @a p to triangle (a, b, c). Flattened: the library's own copy of
-/// closestPointOnTriangle() is exported, so a call to it went through the PLT (the bound
-/// checks measure hundreds of millions of distances).
-[[gnu::flatten]] inline double
-distance2(const Point& p, const Point& a, const Point& b, const Point& c)
-{
-    Vec3d bary;
-    return (closestPointOnTriangle(toVec(p), toVec(a), toVec(b), toVec(c), bary) - toVec(p))
-        .lengthSqr();
-}
-
-/// A triangle by its corner positions.
-struct Triangle
-{
-    Point a, b, c;
-};
-
 /// The rounds on one patch; holds the state of a round (valences, old positions) and the
-/// reference points every face covers.
+/// reference points every face covers (ReferenceCoverage).
 class IsotropicRemesher
 {
 public:
     IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings);
-    ~IsotropicRemesher() { mMesh.remove_property(mFirstCovered); }
 
     void moveOffChords();
     void splitLongEdges();
@@ -67,33 +48,22 @@ private:
     void flipEdge(EdgeHandle e);
     VertexHandle splitEdge(EdgeHandle e);
 
-    Triangle triangle(FaceHandle f) const
+    TrianglePoints triangle(FaceHandle f) const
     {
         auto it = mMesh.cfv_iter(f);
         const VertexHandle a = *it, b = *++it, c = *++it;
         return {mMesh.point(a), mMesh.point(b), mMesh.point(c)};
     }
-    /// @brief After an operation changed @a changed (some perhaps deleted): a point whose
-    /// nearest point on its face is no longer inside it goes to the nearest of @a around
-    /// (the first of equals).
-    void recover(const std::vector<FaceHandle>& changed, const std::vector<FaceHandle>& around)
-    {
-        mPoints.clear();
-        for (const FaceHandle f : changed) releaseOutside(f);
-        coverByNearest(around);
-    }
-    /// Moves the points of @a f whose nearest point on it is not inside it to mPoints.
-    void releaseOutside(FaceHandle f);
-    /// Every point of mPoints covered by the nearest of @a faces (the first of equals).
-    void coverByNearest(const std::vector<FaceHandle>& faces);
     /// @brief Is every reference point covered by @a faces within the deviation bound of one
-    /// of @a triangles (the surface replacing them), or no farther from them than from its
-    /// own face as it was (at @a before, the current positions if null)?
-    /// Only the points of the first @a checkCount faces are looked at (all by default).
+    /// of @a triangles, or no farther from them than from its own face as it was (at
+    /// @a before, the current positions if null)? See ReferenceCoverage::keepsCovered().
     bool keepsCovered(const std::vector<FaceHandle>& faces,
-                      const std::vector<Triangle>& triangles,
+                      const std::vector<TrianglePoints>& triangles,
                       const std::vector<Point>* before = nullptr,
-                      std::size_t checkCount = std::size_t(-1)) const;
+                      std::size_t checkCount = std::size_t(-1)) const
+    {
+        return mCoverage.keepsCovered(faces, triangles, mSettings.deviation2, before, checkCount);
+    }
 
     bool isLocked(VertexHandle v) const { return mPatch.isLocked(v); }
     bool isFree(VertexHandle v) const { return mPatch.isFree(v); }
@@ -132,22 +102,14 @@ private:
     std::vector<Point> mPrevious;   ///< positions before relaxation
     /// Valence of every vertex, kept up to date during the collapse and flip passes.
     std::vector<int> mValence;
-    /// The reference vertices off the curves, each covered by (listed at) the face nearest to
-    /// it. Operations keep the surface within the deviation bound of these fixed points, not
-    /// of the surface of the step before: a bound against the last step lets tips and thin
-    /// parts erode a little every round. Lists: the first point + 1 per face (0: none), the
-    /// next + 1 per point.
-    OpenMesh::FPropHandleT<int> mFirstCovered;
-    std::vector<int> mNextCovered;
-    const std::vector<Vec3d>& mReferencePoints;
-    std::vector<int> mPoints;                ///< scratch: points to cover again
+    /// The reference points every face covers: the deviation bound is kept against them.
+    ReferenceCoverage mCoverage;
     std::vector<FaceHandle> mChanged;        ///< scratch: faces an operation changed
     std::vector<FaceHandle> mFaces;          ///< scratch: faces around an operation
-    std::vector<Triangle> mTriangles;        ///< scratch: the triangles replacing them
-    std::vector<Point> mUnitNormals;         ///< scratch: their unit normals
-    std::vector<FaceHandle> mRemovedFaces;   ///< scratch: faces a collapse removes
-    std::vector<FaceHandle> mUnchangedFaces;     ///< scratch: faces a collapse keeps
-    std::vector<Triangle> mUnchangedTriangles;   ///< scratch: their triangles
+    std::vector<TrianglePoints> mTriangles;   ///< scratch: the triangles replacing them
+    std::vector<FaceHandle> mRemovedFaces;    ///< scratch: faces a collapse removes
+    std::vector<FaceHandle> mUnchangedFaces;  ///< scratch: faces a collapse keeps
+    std::vector<TrianglePoints> mUnchangedTriangles;   ///< scratch: their triangles
     FoldGuard mFolds;
     /// The first round's collapses test for folds against the faces across the fan's edges
     /// only (FoldGuard::foldsMore()).
@@ -155,118 +117,9 @@ private:
 };
 
 IsotropicRemesher::IsotropicRemesher(RemeshingPatch& patch, const RemeshSettings& settings)
-    : mPatch(patch), mMesh(patch.mesh()), mSettings(settings),
-      mReferencePoints(patch.reference().points()), mFolds(patch.mesh())
+    : mPatch(patch), mMesh(patch.mesh()), mSettings(settings), mCoverage(patch),
+      mFolds(patch.mesh())
 {
-    // Mesh vertex i was made at reference vertex i: a face at it covers it (at distance 0).
-    mMesh.add_property(mFirstCovered, "f:covered");
-    for (const FaceHandle f : mMesh.faces()) mMesh.property(mFirstCovered, f) = 0;
-    mNextCovered.assign(mReferencePoints.size(), 0);
-    for (std::size_t i = 0; i < mReferencePoints.size(); ++i) {
-        if (mPatch.isCurvePoint(i)) continue;
-        const VertexHandle v{int(i)};
-        for (const FaceHandle f : mMesh.vf_range(v)) {
-            mNextCovered[i] = mMesh.property(mFirstCovered, f);
-            mMesh.property(mFirstCovered, f) = int(i) + 1;
-            break;
-        }
-    }
-}
-
-void
-IsotropicRemesher::releaseOutside(FaceHandle f)
-{
-    int& first = mMesh.property(mFirstCovered, f);
-    if (first == 0) return;
-    int i = first;
-    first = 0;
-    const bool deleted = mMesh.status(f).deleted();
-    const Triangle t = deleted ? Triangle{} : triangle(f);
-    while (i != 0) {
-        const int next = mNextCovered[i - 1];
-        Vec3d bary(0.0);
-        if (!deleted) {
-            closestPointOnTriangle(mReferencePoints[i - 1], toVec(t.a), toVec(t.b), toVec(t.c),
-                                   bary);
-        }
-        if (bary[0] > 0.0 && bary[1] > 0.0 && bary[2] > 0.0) {
-            mNextCovered[i - 1] = first;
-            first = i;
-        } else {
-            mPoints.push_back(i - 1);
-        }
-        i = next;
-    }
-}
-
-void
-IsotropicRemesher::coverByNearest(const std::vector<FaceHandle>& faces)
-{
-    if (mPoints.empty()) return;
-    mTriangles.resize(faces.size());
-    mUnitNormals.resize(faces.size());
-    for (std::size_t k = 0; k < faces.size(); ++k) {
-        const Triangle& t = mTriangles[k] = triangle(faces[k]);
-        const Point n = (t.b - t.a) % (t.c - t.a);
-        const double length = n.norm();
-        mUnitNormals[k] = length > 0.0 ? n / length : Point(0, 0, 0);
-    }
-    for (const int i : mPoints) {
-        const Point q = toPoint(mReferencePoints[i]);
-        std::size_t best = 0;
-        double bestDistance = std::numeric_limits<double>::infinity();
-        // Nothing is nearer than 0: the first face touching the point is the first of equals
-        // (a point at a corner of the fan, a fifth of them in the first round).
-        for (std::size_t k = 0; k < faces.size() && bestDistance > 0.0; ++k) {
-            const Triangle& t = mTriangles[k];
-            // The distance to the face's plane bounds the distance to the face from below: a
-            // face whose plane is farther than the best so far is skipped (with a margin for
-            // rounding: the choice stays the one the full distances make).
-            const double height = mUnitNormals[k] | (q - t.a);
-            if (height * height > bestDistance * (1.0 + 1e-9)) continue;
-            const double d = distance2(q, t.a, t.b, t.c);
-            if (d < bestDistance) {
-                bestDistance = d;
-                best = k;
-            }
-        }
-        int& first = mMesh.property(mFirstCovered, faces[best]);
-        mNextCovered[i] = first;
-        first = i + 1;
-    }
-}
-
-bool
-IsotropicRemesher::keepsCovered(const std::vector<FaceHandle>& faces,
-                                const std::vector<Triangle>& triangles,
-                                const std::vector<Point>* before, std::size_t checkCount) const
-{
-    const double limit2 = mSettings.deviation2;
-    const std::size_t count = triangles.size();
-    for (std::size_t k = 0; k < std::min(checkCount, faces.size()); ++k) {
-        const FaceHandle f = faces[k];
-        const int first = mMesh.property(mFirstCovered, f);
-        if (first == 0) continue;
-        for (int i = first; i != 0; i = mNextCovered[i - 1]) {
-            const Point q = toPoint(mReferencePoints[i - 1]);
-            // The triangle at the same place in the list first: mostly the face itself.
-            double nearest = std::numeric_limits<double>::infinity();
-            for (std::size_t j = 0; j < count && nearest > limit2; ++j) {
-                const Triangle& t = triangles[(k + j) % count];
-                nearest = std::min(nearest, distance2(q, t.a, t.b, t.c));
-            }
-            if (nearest <= limit2) continue;
-            // Rare: only now is the face as it was needed.
-            Triangle old = triangle(f);
-            if (before) {
-                auto it = mMesh.cfv_iter(f);
-                const VertexHandle a = *it, b = *++it, c = *++it;
-                old = {(*before)[a.idx()], (*before)[b.idx()], (*before)[c.idx()]};
-            }
-            if (nearest > distance2(q, old.a, old.b, old.c)) return false;
-        }
-    }
-    return true;
 }
 
 VertexHandle
@@ -280,7 +133,7 @@ IsotropicRemesher::splitEdge(EdgeHandle e)
     }
     const VertexHandle m = mPatch.splitEdge(e);
     mFaces.assign(mMesh.vf_begin(m), mMesh.vf_end(m));
-    recover(mChanged, mFaces);
+    mCoverage.recover(mChanged, mFaces);
     return m;
 }
 
@@ -290,7 +143,7 @@ IsotropicRemesher::flipEdge(EdgeHandle e)
     mMesh.flip(e);
     mFaces.clear();
     for (int k = 0; k < 2; ++k) mFaces.push_back(mMesh.face_handle(mMesh.halfedge_handle(e, k)));
-    recover(mFaces, mFaces);
+    mCoverage.recover(mFaces, mFaces);
 }
 
 void
@@ -304,7 +157,7 @@ IsotropicRemesher::collapseEdge(HalfedgeHandle h, const Point& position)
     vdbi::collapseEdge(mMesh, h);
     mMesh.set_point(kept, position);
     mFaces.assign(mMesh.vf_begin(kept), mMesh.vf_end(kept));
-    recover(mChanged, mFaces);
+    mCoverage.recover(mChanged, mFaces);
 }
 
 void
@@ -317,7 +170,7 @@ IsotropicRemesher::moveOffChords()
         if (!isFree(v)) continue;
         bool flat = false;
         for (const FaceHandle f : mMesh.vf_range(v)) {
-            const Triangle t = triangle(f);
+            const TrianglePoints t = triangle(f);
             flat = flat || hasNoArea(t.a, t.b, t.c);
         }
         if (!flat) continue;
@@ -452,7 +305,7 @@ IsotropicRemesher::isCollapseAllowed(HalfedgeHandle h, double target, bool toMid
     for (std::size_t k = 0; k < changedCount; ++k) {
         int id[3], i = 0;
         for (const VertexHandle c : mMesh.fv_range(mFaces[k])) id[i++] = (c == v0 ? v1 : c).idx();
-        const Triangle& t = mTriangles[k];
+        const TrianglePoints& t = mTriangles[k];
         mFolds.addNew(CornerTriangle(t.a, t.b, t.c, id[0], id[1], id[2]));
         mFolds.addAcross(mFaces[k], v0, v1);
     }
@@ -528,11 +381,12 @@ IsotropicRemesher::isFlipAllowed(EdgeHandle e)
     // it bridges it: keep the new diagonal close to the old faces. Its midpoint close to the
     // old one needs no search.
     mFaces.assign({mMesh.face_handle(h0), mMesh.face_handle(h1)});
-    mTriangles.assign({Triangle{p0, pd, pc}, Triangle{pd, p1, pc}});
+    mTriangles.assign({TrianglePoints{p0, pd, pc}, TrianglePoints{pd, p1, pc}});
     if (!keepsCovered(mFaces, mTriangles)) return false;
     const Point oldMid = (p0 + p1) * 0.5, newMid = (pc + pd) * 0.5;
     if ((oldMid - newMid).sqrnorm() > mSettings.deviation2
-        && std::min(distance2(newMid, p0, p1, pc), distance2(newMid, p1, p0, pd))
+        && std::min(squaredDistanceToTriangle(newMid, p0, p1, pc),
+                    squaredDistanceToTriangle(newMid, p1, p0, pd))
             > mSettings.deviation2) {
         return false;
     }
@@ -724,13 +578,6 @@ IsotropicRemesher::projectToReference()
     // corner: the answer (1 close, 2 not, 0 not measured) is remembered until a corner steps
     // back, so a face is measured about once a round, not once per corner.
     std::vector<char> closeToItself(mMesh.n_faces(), 0);
-    auto isCloseToItself = [&](FaceHandle f, const Triangle& t) {
-        for (int i = mMesh.property(mFirstCovered, f); i != 0; i = mNextCovered[i - 1]) {
-            const Point q = toPoint(mReferencePoints[i - 1]);
-            if (distance2(q, t.a, t.b, t.c) > mSettings.deviation2) return false;
-        }
-        return true;
-    };
     std::vector<VertexHandle> check, next;
     for (const VertexHandle v : mMesh.vertices()) if (kept[v.idx()]) check.push_back(v);
     for (int round = 0; round < 40 && !check.empty(); ++round) {
@@ -749,7 +596,7 @@ IsotropicRemesher::projectToReference()
                     break;
                 }
                 char& close = closeToItself[f.idx()];
-                if (!close) close = isCloseToItself(f, mTriangles.back()) ? 1 : 2;
+                if (!close) close = mCoverage.allWithin(f, mTriangles.back(), mSettings.deviation2) ? 1 : 2;
                 if (close == 1) continue;
                 std::swap(mFaces[unsure], mFaces.back());
                 std::swap(mTriangles[unsure], mTriangles.back());
@@ -773,13 +620,13 @@ IsotropicRemesher::projectToReference()
     }
     // Points of a face that moved go to the nearest of it and the faces around its corners.
     for (const FaceHandle f : mMesh.faces()) {
-        if (mMesh.status(f).deleted() || mMesh.property(mFirstCovered, f) == 0) continue;
+        if (mMesh.status(f).deleted() || !mCoverage.coversAny(f)) continue;
         bool moved = false;
         for (const VertexHandle v : mMesh.fv_range(f)) moved = moved || kept[v.idx()];
         if (!moved) continue;
-        mPoints.clear();
-        releaseOutside(f);
-        if (mPoints.empty()) continue;
+        mCoverage.clearReleased();
+        mCoverage.releaseOutside(f);
+        if (!mCoverage.hasReleased()) continue;
         mFaces.assign(1, f);
         for (const VertexHandle v : mMesh.fv_range(f)) {
             for (const FaceHandle g : mMesh.vf_range(v)) {
@@ -788,7 +635,7 @@ IsotropicRemesher::projectToReference()
                 }
             }
         }
-        coverByNearest(mFaces);
+        mCoverage.coverByNearest(mFaces);
     }
 }
 
