@@ -165,9 +165,18 @@ IsotropicRemesher::moveOffChords()
 {
     // A free vertex of a triangle without area (the centre of a split voxel face, on the
     // chord between two curve samples) goes to the mean of its neighbours, where all its
-    // triangles have area and face the way of its reference normal.
-    for (const VertexHandle v : mMesh.vertices()) {
-        if (!isFree(v)) continue;
+    // triangles have area and face the way of its reference normal. The faces are looked at
+    // once each; a move makes no triangle without area, so a vertex is checked again only
+    // where such a triangle was found.
+    std::vector<VertexHandle> candidates;
+    for (const FaceHandle f : mMesh.faces()) {
+        const TrianglePoints t = triangle(f);
+        if (!hasNoArea(t.a, t.b, t.c)) continue;
+        for (const VertexHandle v : mMesh.fv_range(f)) if (isFree(v)) candidates.push_back(v);
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (const VertexHandle v : candidates) {
         bool flat = false;
         for (const FaceHandle f : mMesh.vf_range(v)) {
             const TrianglePoints t = triangle(f);
@@ -186,7 +195,8 @@ IsotropicRemesher::moveOffChords()
             if (!mMesh.face_handle(h).is_valid()) continue;
             const Point& b = mMesh.point(mMesh.to_vertex_handle(h));
             const Point& c = mMesh.point(mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h)));
-            fine = fine && !hasNoArea(mean, b, c) && (((b - mean) % (c - mean)) | refNormal(v)) > 0.0;
+            fine = fine && !hasNoArea(mean, b, c)
+                && (((b - mean) % (c - mean)) | refNormal(v)) > 0.0;
         }
         if (fine) mMesh.set_point(v, mean);
     }
