@@ -48,12 +48,7 @@ private:
     void flipEdge(EdgeHandle e);
     VertexHandle splitEdge(EdgeHandle e);
 
-    TrianglePoints triangle(FaceHandle f) const
-    {
-        auto it = mMesh.cfv_iter(f);
-        const VertexHandle a = *it, b = *++it, c = *++it;
-        return {mMesh.point(a), mMesh.point(b), mMesh.point(c)};
-    }
+    TrianglePoints triangle(FaceHandle f) const { return trianglePoints(mMesh, f); }
     /// @brief Is every reference point covered by @a faces within the deviation bound of one
     /// of @a triangles, or no farther from them than from its own face as it was (at
     /// @a before, the current positions if null)? See ReferenceCoverage::keepsCovered().
@@ -606,7 +601,10 @@ IsotropicRemesher::projectToReference()
                     break;
                 }
                 char& close = closeToItself[f.idx()];
-                if (!close) close = mCoverage.allWithin(f, mTriangles.back(), mSettings.deviation2) ? 1 : 2;
+                if (!close) {
+                    close = mCoverage.allWithin(f, mTriangles.back(), mSettings.deviation2)
+                        ? 1 : 2;
+                }
                 if (close == 1) continue;
                 std::swap(mFaces[unsure], mFaces.back());
                 std::swap(mTriangles[unsure], mTriangles.back());

@@ -29,14 +29,6 @@ ReferenceCoverage::~ReferenceCoverage()
     mMesh.remove_property(mFirst);
 }
 
-TrianglePoints
-ReferenceCoverage::corners(FaceHandle f) const
-{
-    auto it = mMesh.cfv_iter(f);
-    const TriMesh::VertexHandle a = *it, b = *++it, c = *++it;
-    return {mMesh.point(a), mMesh.point(b), mMesh.point(c)};
-}
-
 void
 ReferenceCoverage::releaseOutside(FaceHandle f)
 {
@@ -45,7 +37,7 @@ ReferenceCoverage::releaseOutside(FaceHandle f)
     int i = first;
     first = 0;
     const bool deleted = mMesh.status(f).deleted();
-    const TrianglePoints t = deleted ? TrianglePoints{} : corners(f);
+    const TrianglePoints t = deleted ? TrianglePoints{} : trianglePoints(mMesh, f);
     while (i != 0) {
         const int next = mNext[i - 1];
         openvdb::Vec3d bary(0.0);
@@ -69,7 +61,7 @@ ReferenceCoverage::coverByNearest(const std::vector<FaceHandle>& faces)
     mTriangles.resize(faces.size());
     mUnitNormals.resize(faces.size());
     for (std::size_t k = 0; k < faces.size(); ++k) {
-        const TrianglePoints& t = mTriangles[k] = corners(faces[k]);
+        const TrianglePoints& t = mTriangles[k] = trianglePoints(mMesh, faces[k]);
         const Point n = (t.b - t.a) % (t.c - t.a);
         const double length = n.norm();
         mUnitNormals[k] = length > 0.0 ? n / length : Point(0, 0, 0);
@@ -129,7 +121,7 @@ ReferenceCoverage::keepsCovered(const std::vector<FaceHandle>& faces,
             }
             if (nearest <= limit2) continue;
             // Rare: only now is the face as it was needed.
-            TrianglePoints old = corners(f);
+            TrianglePoints old = trianglePoints(mMesh, f);
             if (before) {
                 auto it = mMesh.cfv_iter(f);
                 const TriMesh::VertexHandle a = *it, b = *++it, c = *++it;

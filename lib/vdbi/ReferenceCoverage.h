@@ -19,12 +19,21 @@ struct TrianglePoints
     TriMesh::Point a, b, c;
 };
 
+/// The corner positions of face @a f of @a mesh.
+inline TrianglePoints
+trianglePoints(const TriMesh& mesh, TriMesh::FaceHandle f)
+{
+    auto it = mesh.cfv_iter(f);
+    const TriMesh::VertexHandle a = *it, b = *++it, c = *++it;
+    return {mesh.point(a), mesh.point(b), mesh.point(c)};
+}
+
 /// Squared distance from @a p to triangle (a, b, c). Flattened: the library's own copy of
 /// closestPointOnTriangle() is exported, so a call to it went through the PLT (the bound
 /// checks measure hundreds of millions of distances).
 [[gnu::flatten]] inline double
-squaredDistanceToTriangle(const TriMesh::Point& p, const TriMesh::Point& a, const TriMesh::Point& b,
-          const TriMesh::Point& c)
+squaredDistanceToTriangle(const TriMesh::Point& p, const TriMesh::Point& a,
+                          const TriMesh::Point& b, const TriMesh::Point& c)
 {
     openvdb::Vec3d bary;
     return (closestPointOnTriangle(toVec(p), toVec(a), toVec(b), toVec(c), bary) - toVec(p))
@@ -81,8 +90,6 @@ public:
                       std::size_t checkCount = std::size_t(-1)) const;
 
 private:
-    TrianglePoints corners(FaceHandle f) const;
-
     TriMesh& mMesh;
     const std::vector<openvdb::Vec3d>& mPoints;
     OpenMesh::FPropHandleT<int> mFirst;
