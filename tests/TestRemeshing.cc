@@ -270,9 +270,10 @@ checkRemeshing(const std::string& name, const vdbi::InterfaceMesh& raw, double t
 }
 
 /// The frog remeshed at @a voxels voxels: the output's guarantees and no intersecting pairs,
-/// by the independent checker.
+/// by the independent checker; the smallest angles' 1st percentile at least @a minAngleP1
+/// degrees.
 void
-checkFrogCrossings(double voxels)
+checkFrogCrossings(double voxels, double minAngleP1 = 0.0)
 {
     const auto frog = vdbi::readLabelVolume(vdbi_test::dataPath("frogtissue.mhd"));
     const vdbi::InterfaceMesh raw = extract(*frog);
@@ -285,6 +286,9 @@ checkFrogCrossings(double voxels)
     EXPECT_EQ(out.patches.size(), raw.patches.size());
     const auto found = vdbi_test::findSelfIntersections(out, options.edgeLength);
     EXPECT_TRUE(found.empty()) << vdbi_test::describeIntersections(out, found);
+    const vdbi_test::MeshQuality quality = vdbi_test::measureMeshQuality(out, options.edgeLength);
+    std::printf("[ frog, %g voxels ] %s\n", voxels, quality.summary().c_str());
+    EXPECT_GE(quality.angleP1, minAngleP1);
 }
 
 } // namespace
@@ -544,10 +548,12 @@ TEST_F(TestRemeshing, testFrogAtOneVoxel)
 // inner samples too (Remeshing.cc, SEPARATION_CYCLES). The last 5 after the first round
 // collapsed through halved targets came from a triangle without area, whose free corner (the
 // centre of a split voxel face) lay on the chord between two curve samples and no collapse
-// could remove: moveOffChords() moves it first.
+// could remove: moveOffChords() moves it first. The smallest angles' 1st percentile was
+// 19.7 degrees before the sharp fans were smoothed after the last round (the target
+// is 25).
 TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 {
-    checkFrogCrossings(2.0);
+    checkFrogCrossings(2.0, 20.0);
 }
 
 // At four voxels: 39 pairs were left while the first round collapsed straight from the

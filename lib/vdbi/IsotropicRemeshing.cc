@@ -21,6 +21,11 @@ using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using EdgeHandle = TriMesh::EdgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
+/// A fan with an angle under this many degrees is smoothed after the last round.
+constexpr double SHARP_FAN_DEGREES = 30.0;
+/// Passes over the vertices when smoothing sharp fans (the last ones move few).
+constexpr int SHARP_FAN_PASSES = 5;
+
 /// The rounds on one patch; holds the state of a round (valences, old positions) and the
 /// reference points every face covers (ReferenceCoverage).
 class IsotropicRemesher
@@ -38,6 +43,7 @@ public:
     void equalizeValences();
     void removeCaps();
     void flipSharpTriangles();
+    void smoothSharpFans();
     void tangentialRelaxation();
     void projectToReference();
 
@@ -493,6 +499,94 @@ IsotropicRemesher::flipSharpTriangles()
 }
 
 void
+IsotropicRemesher::smoothSharpFans()
+{
+    // After the last round: a free vertex of a fan with a small angle moves toward the mean
+    // of its neighbours (onto the reference), or half the way, when that raises the fan's
+    // smallest angle and passes the guards of a projection: no fold, no crease crossed,
+    // every covered point within the (tighter) bound. Tangential relaxation aims at even
+    // areas; this aims at the angles the result is judged by.
+    const double sharpCos = std::cos(SHARP_FAN_DEGREES * M_PI / 180.0);
+    auto fanCos = [&](VertexHandle v) {   // cosine of the fan's smallest angle
+        double worst = -1.0;
+        for (const FaceHandle f : mMesh.vf_range(v)) {
+            const TrianglePoints t = triangle(f);
+            worst = std::max(worst, smallestAngleCos(t.a, t.b, t.c));
+        }
+        return worst;
+    };
+    std::vector<Point> before(mMesh.n_vertices());
+    for (const VertexHandle v : mMesh.vertices()) before[v.idx()] = mMesh.point(v);
+    // The first pass looks at every vertex, the next ones only at those with a face that a
+    // move changed or gave covered points: a vertex refused before is refused again if none.
+    std::vector<VertexHandle> candidates(mMesh.vertices().begin(), mMesh.vertices().end()), next;
+    for (int pass = 0; pass < SHARP_FAN_PASSES && !candidates.empty(); ++pass) {
+        next.clear();
+        for (const VertexHandle v : candidates) {
+            if (mMesh.status(v).deleted() || !isFree(v)) continue;
+            const double old = fanCos(v);
+            if (old <= sharpCos) continue;
+            Point mean(0, 0, 0);
+            int n = 0;
+            for (const VertexHandle w : mMesh.vv_range(v)) {
+                mean += mMesh.point(w);
+                ++n;
+            }
+            if (n == 0) continue;
+            const Point p = mMesh.point(v), normal = refNormal(v);
+            const std::uint32_t startTriangle = mPatch.refTriangle(v);
+            bool agreedBefore = true;
+            for (const FaceHandle f : mMesh.vf_range(v)) agreedBefore = agreedBefore && agrees(f);
+            Point d = mean / double(n) - p;
+            d -= normal * (d | normal);
+            for (const double step : {1.0, 0.5}) {
+                std::uint32_t start = startTriangle;
+                const ReferenceSurface::Hit hit =
+                    mPatch.reference().closestPointNear(toVec(p + d * step), start);
+                if ((toPoint(hit.normal) | mPatch.anchor(v)) < mSettings.creaseCos) continue;
+                mMesh.set_point(v, toPoint(hit.point));
+                mPatch.refNormal(v) = toPoint(hit.normal);
+                bool ok = fanCos(v) < old - 1e-6;   // a real gain, not rounding
+                mFaces.clear();
+                mTriangles.clear();
+                for (const FaceHandle f : mMesh.vf_range(v)) {
+                    if (!ok) break;
+                    if (agreedBefore && !agrees(f)) ok = false;
+                    mFaces.push_back(f);
+                    mTriangles.push_back(triangle(f));
+                }
+                ok = ok && mCoverage.keepsCovered(mFaces, mTriangles,
+                                                  mSettings.smoothingDeviation2, &before);
+                ok = ok && !mFolds.movedIntoFold(v, before);
+                if (!ok) {
+                    mMesh.set_point(v, p);
+                    mPatch.refNormal(v) = normal;
+                    continue;
+                }
+                mPatch.refTriangle(v) = hit.triangle;
+                before[v.idx()] = mMesh.point(v);
+                mChanged = mFaces;
+                for (const VertexHandle w : mMesh.vv_range(v)) {
+                    for (const FaceHandle g : mMesh.vf_range(w)) {
+                        if (std::find(mFaces.begin(), mFaces.end(), g) == mFaces.end()) {
+                            mFaces.push_back(g);
+                        }
+                    }
+                }
+                mCoverage.recover(mChanged, mFaces);
+                for (const FaceHandle g : mFaces) {
+                    for (const VertexHandle w : mMesh.fv_range(g)) next.push_back(w);
+                }
+                break;
+            }
+        }
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        candidates.swap(next);
+    }
+}
+
+void
 IsotropicRemesher::tangentialRelaxation()
 {
     mPrevious.assign(mMesh.n_vertices(), Point(0, 0, 0));
@@ -682,7 +776,11 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
         remesher.tangentialRelaxation();
         remesher.projectToReference();
     }
-    if (settings.iterations > 0) remesher.flipSharpTriangles();
+    if (settings.iterations > 0) {
+        remesher.flipSharpTriangles();
+        remesher.smoothSharpFans();
+        remesher.flipSharpTriangles();
+    }
     return true;
 }
 

@@ -26,6 +26,9 @@ struct RemeshSettings
     /// surface after a collapse, flip or relaxation move, unless it was farther before: keeps
     /// tips and thin parts from being eaten.
     double deviation2 = 0.0;
+    /// The same for the moves that smooth sharp fans after the last round (a tighter bound:
+    /// they come on top of every other operation's).
+    double smoothingDeviation2 = 0.0;
     /// A vertex whose reference normal differs from a neighbour's by more than this angle
     /// sits on a crease or corner: it is kept in place of a flat neighbour when collapsing.
     double flatCos = std::cos(20.0 * M_PI / 180.0);
@@ -41,7 +44,8 @@ struct RemeshSettings
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 /// smallest angle), tangential relaxation, projection onto the reference surface. After the
 /// last round, edges of triangles under 25 degrees are flipped where that raises the smaller
-/// smallest angle.
+/// smallest angle, and free vertices of fans with an angle under 30 degrees move toward the
+/// mean of their neighbours (onto the reference) where that raises the fan's smallest angle.
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
 /// configuration, an inner edge between two locked vertices that another patch may make too
 /// (RemeshingPatch::mayJoinLocked()), or takes the surface more than sqrt(deviation2) away
