@@ -55,6 +55,24 @@ private:
     VertexHandle splitEdge(EdgeHandle e);
 
     TrianglePoints triangle(FaceHandle f) const { return trianglePoints(mMesh, f); }
+    /// The mean of the neighbours of @a v (which has some).
+    Point neighbourMean(VertexHandle v) const
+    {
+        Point sum(0, 0, 0);
+        int count = 0;
+        for (const VertexHandle w : mMesh.vv_range(v)) {
+            sum += mMesh.point(w);
+            ++count;
+        }
+        return sum / double(count);
+    }
+    /// Appends to @a faces those around @a v it does not list yet.
+    void appendFacesAround(VertexHandle v, std::vector<FaceHandle>& faces) const
+    {
+        for (const FaceHandle g : mMesh.vf_range(v)) {
+            if (std::find(faces.begin(), faces.end(), g) == faces.end()) faces.push_back(g);
+        }
+    }
     /// @brief Is every reference point covered by @a faces within the deviation bound of one
     /// of @a triangles, or no farther from them than from its own face as it was (at
     /// @a before, the current positions if null)? See ReferenceCoverage::keepsCovered().
@@ -184,13 +202,7 @@ IsotropicRemesher::moveOffChords()
             flat = flat || hasNoArea(t.a, t.b, t.c);
         }
         if (!flat) continue;
-        Point mean(0, 0, 0);
-        int count = 0;
-        for (const VertexHandle w : mMesh.vv_range(v)) {
-            mean += mMesh.point(w);
-            ++count;
-        }
-        mean /= double(count);
+        const Point mean = neighbourMean(v);
         bool fine = true;
         for (const HalfedgeHandle h : mMesh.voh_range(v)) {
             if (!mMesh.face_handle(h).is_valid()) continue;
@@ -526,18 +538,11 @@ IsotropicRemesher::smoothSharpFans()
             if (mMesh.status(v).deleted() || !isFree(v)) continue;
             const double old = fanCos(v);
             if (old <= sharpCos) continue;
-            Point mean(0, 0, 0);
-            int n = 0;
-            for (const VertexHandle w : mMesh.vv_range(v)) {
-                mean += mMesh.point(w);
-                ++n;
-            }
-            if (n == 0) continue;
             const Point p = mMesh.point(v), normal = refNormal(v);
             const std::uint32_t startTriangle = mPatch.refTriangle(v);
             bool agreedBefore = true;
             for (const FaceHandle f : mMesh.vf_range(v)) agreedBefore = agreedBefore && agrees(f);
-            Point d = mean / double(n) - p;
+            Point d = neighbourMean(v) - p;
             d -= normal * (d | normal);
             for (const double step : {1.0, 0.5}) {
                 std::uint32_t start = startTriangle;
@@ -566,13 +571,7 @@ IsotropicRemesher::smoothSharpFans()
                 mPatch.refTriangle(v) = hit.triangle;
                 before[v.idx()] = mMesh.point(v);
                 mChanged = mFaces;
-                for (const VertexHandle w : mMesh.vv_range(v)) {
-                    for (const FaceHandle g : mMesh.vf_range(w)) {
-                        if (std::find(mFaces.begin(), mFaces.end(), g) == mFaces.end()) {
-                            mFaces.push_back(g);
-                        }
-                    }
-                }
+                for (const VertexHandle w : mMesh.vv_range(v)) appendFacesAround(w, mFaces);
                 mCoverage.recover(mChanged, mFaces);
                 for (const FaceHandle g : mFaces) {
                     for (const VertexHandle w : mMesh.fv_range(g)) next.push_back(w);
@@ -730,13 +729,7 @@ IsotropicRemesher::projectToReference()
         mCoverage.releaseOutside(f);
         if (!mCoverage.hasReleased()) continue;
         mFaces.assign(1, f);
-        for (const VertexHandle v : mMesh.fv_range(f)) {
-            for (const FaceHandle g : mMesh.vf_range(v)) {
-                if (g != f && std::find(mFaces.begin(), mFaces.end(), g) == mFaces.end()) {
-                    mFaces.push_back(g);
-                }
-            }
-        }
+        for (const VertexHandle v : mMesh.fv_range(f)) appendFacesAround(v, mFaces);
         mCoverage.coverByNearest(mFaces);
     }
 }
