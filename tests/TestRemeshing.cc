@@ -271,9 +271,9 @@ checkRemeshing(const std::string& name, const vdbi::InterfaceMesh& raw, double t
 
 /// The frog remeshed at @a voxels voxels: the output's guarantees and no intersecting pairs,
 /// by the independent checker; the smallest angles' 1st percentile at least @a minAngleP1
-/// degrees.
+/// degrees; with @a withinVoxel, closeness within one voxel both ways.
 void
-checkFrogCrossings(double voxels, double minAngleP1 = 0.0)
+checkFrogCrossings(double voxels, double minAngleP1 = 0.0, bool withinVoxel = false)
 {
     const auto frog = vdbi::readLabelVolume(vdbi_test::dataPath("frogtissue.mhd"));
     const vdbi::InterfaceMesh raw = extract(*frog);
@@ -289,6 +289,12 @@ checkFrogCrossings(double voxels, double minAngleP1 = 0.0)
     const vdbi_test::MeshQuality quality = vdbi_test::measureMeshQuality(out, options.edgeLength);
     std::printf("[ frog, %g voxels ] %s\n", voxels, quality.summary().c_str());
     EXPECT_GE(quality.angleP1, minAngleP1);
+    if (!withinVoxel) return;
+    const vdbi_test::Closeness c = vdbi_test::measureCloseness(raw, out, frog->voxelSize());
+    std::printf("[ frog, %g voxels ] remeshed->raw %.3f, raw->remeshed %.3f voxels\n", voxels,
+                c.vertexToRaw, c.rawToOutput);
+    EXPECT_LE(c.vertexToRaw, 1.0);
+    EXPECT_LE(c.rawToOutput, 1.0);
 }
 
 } // namespace
@@ -550,10 +556,11 @@ TEST_F(TestRemeshing, testFrogAtOneVoxel)
 // centre of a split voxel face) lay on the chord between two curve samples and no collapse
 // could remove: moveOffChords() moves it first. The smallest angles' 1st percentile was
 // 19.7 degrees before the sharp fans were smoothed after the last round (the target
-// is 25).
+// is 25). Closeness is asserted here too, the one voxel both ways (bench_remesh
+// --check: 0.83 / 0.92 voxel); the other volumes' is DISABLED_testSampleVolumesGeometry's.
 TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 {
-    checkFrogCrossings(2.0, 20.0);
+    checkFrogCrossings(2.0, 20.0, true);
 }
 
 // At four voxels: 39 pairs were left while the first round collapsed straight from the
