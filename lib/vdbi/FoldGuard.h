@@ -18,8 +18,10 @@ namespace vdbi {
 /// @brief Holds one operation on a mesh (the triangles it makes and the faces across their
 /// outer edges) and tells whether it folds more than the faces it replaces.
 /// @details Counting crossings is dear: looksUnfolded() comes first, and only the triangles
-/// it calls suspect (at a turn of over 120 degrees, or all of a fan that winds more than once
-/// around its centre) are counted. Keeps its scratch between operations: one per remesher.
+/// it calls suspect (at a sharp turn, or all of a fan that winds more than once around its
+/// centre) are counted. A turn is sharp over 120 degrees, or over 60 for a collapse or flip
+/// after the first round off the patch boundary (folds at right-angled creases; FoldGuard.cc
+/// says why not everywhere). Keeps its scratch between operations: one per remesher.
 class FoldGuard
 {
 public:
@@ -59,6 +61,8 @@ public:
     CornerTriangle cornerTriangle(FaceHandle f, const std::vector<Point>& at) const;
 
 private:
+    /// Has a new triangle a corner on the boundary of the mesh?
+    bool touchesBoundary() const;
     /// The faces with a corner on or next to one of @a near, other than @a skip, into
     /// mAroundFaces, and as triangles at the current positions into mAroundTriangles.
     void collectAround(std::initializer_list<VertexHandle> near,
