@@ -504,8 +504,8 @@ TEST_F(TestRemeshing, testNoiseVolumes)
 // The guarantees, every patch and no intersecting triangles hold (chr_knight's last 3 pairs
 // and monu16's last 24 were knots that collapses untie, MeetingEdgeCollapses.h; menger's 44,
 // all within its one patch, were folds at creases that the fold guard tested at turns over
-// 120 degrees only, FoldGuard.cc); closeness is printed: remeshed points lie up to 1.6
-// voxels from the raw faces (menger; DISABLED_testSampleVolumesGeometry). About 75 s, most
+// 120 degrees only, FoldGuard.cc); closeness is printed: remeshed points lie up to 1.2
+// voxels from the raw faces (monu16; DISABLED_testSampleVolumesGeometry). About 75 s, most
 // of it menger's.
 TEST_F(TestRemeshing, testSampleVolumes)
 {
@@ -577,12 +577,12 @@ TEST_F(TestRemeshing, testFrogAtFourVoxels)
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
 // voxel both ways and no intersecting triangles. Fails today (open) at 4 voxels on
-// closeness: remeshed inner vertices lie up to 1.63 voxels from the raw faces (menger;
-// monu16 1.19) and raw faces up to 1.02 voxels from the result (menger); within one voxel
-// at 1 and 2, and no intersecting pairs anywhere (bench_remesh --check; frog at 4 voxels,
-// not run here: 1.39 and 1.10). The frog's farthest vertex is a split's midpoint at a bend
-// tighter than the target: projecting it would turn its normal by over 30 degrees, or fold
-// a triangle. About 9 minutes.
+// closeness: remeshed inner vertices lie up to 1.19 voxels from the raw faces (monu16) and
+// raw faces up to 1.02 voxels from the result (menger); within one voxel at 1 and 2, and no
+// intersecting pairs anywhere (bench_remesh --check; frog at 4 voxels, not run here: 1.16
+// and 1.10). Menger's vertices were up to 1.63 voxels away (the frog's 1.39) while edges
+// across bends tighter than the target were split: the midpoints stayed on the chords for
+// good (IsotropicRemesher::wouldStrandMidpoint()). About 9 minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {

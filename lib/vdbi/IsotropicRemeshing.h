@@ -37,7 +37,8 @@ struct RemeshSettings
     double creaseCos = std::cos(30.0 * M_PI / 180.0);
 };
 
-/// @brief Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than
+/// @brief Rounds of: split edges longer than 4/3 of the target (but where the midpoint would
+/// be far from the reference surface and never allowed onto it), collapse edges shorter than
 /// 4/5 (to the midpoint on flat ground, onto the sharper end on a crease; in the first round
 /// first towards halved targets, RemeshSettings::finestCoarsening, after moving free vertices
 /// off the chords between curve samples), flip edges towards
@@ -55,12 +56,12 @@ struct RemeshSettings
 /// (against its own old normal), a flip or projection folds none against the reference
 /// normals; no collapse, flip or move (relaxation with projection) makes the triangles it
 /// changes cross each other or the faces around more often than the ones they replace did
-/// (FoldGuard.h; only where neighbours turn by over 120 degrees or a fan winds
-/// twice, and in the first collapse pass, from the staircase, against the faces across
-/// the fan's edges only); no relaxation move drags a vertex across a crease, and a vertex
-/// on a folded triangle relaxes to the mean of its neighbours (unfolding what attaching the
-/// samples folded). So the patch keeps its topology. Every loop runs in a fixed order (edge
-/// or vertex index): the result depends on the patch alone.
+/// (FoldGuard.h; only where neighbours turn sharply or a fan winds twice, and in the first
+/// collapse pass, from the staircase, against the faces across the fan's edges only); no
+/// relaxation move drags a vertex across a crease, and a vertex on a folded triangle relaxes
+/// to the mean of its neighbours (unfolding what attaching the samples folded). So the patch
+/// keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
+/// depends on the patch alone.
 /// @return false if the interrupter asked to stop (the patch is then unfinished)
 bool remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
                          InterruptFlag& interrupt);

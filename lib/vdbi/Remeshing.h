@@ -56,7 +56,8 @@ struct RemeshStatistics
 /// 3. The patch's boundary is replaced by the curve samples: a strip of triangles between
 ///    the extracted boundary and the sample polyline makes the samples the new boundary;
 ///    boundary vertices are locked from then on.
-/// 4. Rounds of: split edges longer than 4/3 of the target, collapse edges shorter than 4/5
+/// 4. Rounds of: split edges longer than 4/3 of the target (not where the midpoint would be
+///    far from the reference surface and never allowed onto it), collapse edges shorter than 4/5
 ///    (to the midpoint on flat ground, onto the sharper end on a crease), flip edges towards
 ///    valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 ///    smallest angle), tangential relaxation, projection onto the reference surface. No
