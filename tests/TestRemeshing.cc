@@ -582,7 +582,7 @@ TEST_F(TestRemeshing, testFrogAtFourVoxels)
 // intersecting pairs anywhere (bench_remesh --check; frog at 4 voxels, not run here: 1.16
 // and 1.10). Menger's vertices were up to 1.63 voxels away (the frog's 1.39) while edges
 // across bends tighter than the target were split: the midpoints stayed on the chords for
-// good (IsotropicRemesher::wouldStrandMidpoint()). About 9 minutes.
+// good (RemeshingPatch::wouldStrandMidpoint()). About 9 minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {

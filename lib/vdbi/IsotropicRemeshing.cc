@@ -35,8 +35,6 @@ public:
 
     void moveOffChords();
     void splitLongEdges();
-    /// Would the midpoint of @a h, split, stay off the reference surface for good?
-    bool wouldStrandMidpoint(HalfedgeHandle h) const;
     /// Collapses edges shorter than 4/5 of @a target (not the target of the settings in the
     /// first round's coarsening passes).
     /// @param neighboursOnly  test the new fan for crossings with the faces across its edges
@@ -232,31 +230,14 @@ IsotropicRemesher::splitLongEdges()
             const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
             const Point d = mMesh.point(mMesh.to_vertex_handle(h))
                 - mMesh.point(mMesh.from_vertex_handle(h));
-            if (d.sqrnorm() <= mSettings.high2 || wouldStrandMidpoint(h)) continue;
+            if (d.sqrnorm() <= mSettings.high2
+                || mPatch.wouldStrandMidpoint(e, mSettings.deviation2, mSettings.creaseCos)) {
+                continue;
+            }
             splitEdge(e);
             changed = true;
         }
     }
-}
-
-bool
-IsotropicRemesher::wouldStrandMidpoint(HalfedgeHandle h) const
-{
-    // An edge across a bend much tighter than the target has its midpoint far from the
-    // reference. Where the nearest reference point's normal turns from the midpoint's (the
-    // mean of the ends', as splitEdge() gives it) by more than the crease angle, projection
-    // refuses the move every round (projectToReference()), and a relaxed position is stepped
-    // back: the vertex stays on the chord for good (frog at 4 voxels: 1.39 voxels from the
-    // raw faces; menger 1.63). The edge is left long instead, as it was.
-    const VertexHandle a = mMesh.from_vertex_handle(h), b = mMesh.to_vertex_handle(h);
-    const Point midpoint = (mMesh.point(a) + mMesh.point(b)) * 0.5;
-    Point normal = refNormal(a) + refNormal(b);
-    const double length = normal.norm();
-    if (length > 0.0) normal /= length;
-    const ReferenceSurface::Hit hit =
-        mPatch.reference().closestPointNear(toVec(midpoint), mPatch.refTriangle(a));
-    return (toPoint(hit.point) - midpoint).sqrnorm() > mSettings.deviation2
-        && (toPoint(hit.normal) | normal) < mSettings.creaseCos;
 }
 
 bool

@@ -69,18 +69,39 @@ RemeshingPatch::addInnerVertex(const Point& p, const Point& normal)
 }
 
 
+Point
+RemeshingPatch::midpointNormal(VertexHandle a, VertexHandle b) const
+{
+    Point normal = refNormal(a) + refNormal(b);
+    const double len = normal.norm();
+    if (len > 0.0) normal /= len;
+    return normal;
+}
+
+
 VertexHandle
 RemeshingPatch::splitEdge(EdgeHandle e)
 {
     const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
     const VertexHandle a = mMesh.from_vertex_handle(h), b = mMesh.to_vertex_handle(h);
-    Point normal = refNormal(a) + refNormal(b);
-    const double len = normal.norm();
-    if (len > 0.0) normal /= len;
-    const VertexHandle m = addInnerVertex((mMesh.point(a) + mMesh.point(b)) * 0.5, normal);
+    const VertexHandle m =
+        addInnerVertex((mMesh.point(a) + mMesh.point(b)) * 0.5, midpointNormal(a, b));
     mMesh.property(mRefTriangle, m) = mMesh.property(mRefTriangle, a);
     mMesh.split(e, m);
     return m;
+}
+
+
+bool
+RemeshingPatch::wouldStrandMidpoint(EdgeHandle e, double deviation2, double creaseCos) const
+{
+    const HalfedgeHandle h = mMesh.halfedge_handle(e, 0);
+    const VertexHandle a = mMesh.from_vertex_handle(h), b = mMesh.to_vertex_handle(h);
+    const Point midpoint = (mMesh.point(a) + mMesh.point(b)) * 0.5;
+    const ReferenceSurface::Hit hit =
+        reference().closestPointNear(toVec(midpoint), mMesh.property(mRefTriangle, a));
+    return (toPoint(hit.point) - midpoint).sqrnorm() > deviation2
+        && (toPoint(hit.normal) | midpointNormal(a, b)) < creaseCos;
 }
 
 
