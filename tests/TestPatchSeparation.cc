@@ -435,3 +435,99 @@ TEST_F(TestPatchSeparation, testKnownPairsReplaceTheSearch)
     EXPECT_EQ(std::vector<Vec3d>(unseeded.points.begin(), unseeded.points.end()),
               std::vector<Vec3d>(mesh.points.begin(), mesh.points.end()));
 }
+
+namespace {
+
+/// A hexagon of six triangles around point 0 in the plane z = 0 as patch (1, 2), and as
+/// patch (3, 4) the triangle (7, 8, 9) if @a withSpike: the raw patches of the tests below.
+std::vector<Vec3d>
+hexagonPoints(const Vec3d& centre)
+{
+    std::vector<Vec3d> points = {centre};
+    for (int k = 0; k < 6; ++k) {
+        const double angle = k * M_PI / 3.0;
+        points.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+    }
+    return points;
+}
+
+std::vector<Vec3I>
+hexagonFan()
+{
+    std::vector<Vec3I> fan;
+    for (std::uint32_t k = 0; k < 6; ++k) fan.emplace_back(0, 1 + k, 1 + (k + 1) % 6);
+    return fan;
+}
+
+} // namespace
+
+// testSearchAlongNormalFreesDeepCrossing with the flat hexagon as the fan's source: the move
+// to z = -0.3 that frees the spike is made under a limit of 0.35 voxel from the source, not
+// under 0.25, where no move frees the pair and the centre stays.
+TEST_F(TestPatchSeparation, testMovesStayNearTheSource)
+{
+    std::vector<Vec3d> points = hexagonPoints(Vec3d(0, 0, 0));
+    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
+                                 Vec3d(0.45, 0.15, 1.0)});
+    const vdbi::InterfaceMesh raw =
+        makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 1.0);
+    std::vector<std::uint8_t> movable(points.size(), 0);
+    movable[0] = 1;
+    for (const double limit : {0.35, 0.25}) {
+        vdbi::InterfaceMesh mesh = raw;
+        vdbi::SeparationSettings settings = unitSettings();
+        settings.source = &source;
+        settings.sourceLimit = limit;
+        const bool freed = limit > 0.3;
+        EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings), freed ? 0u : 1u);
+        EXPECT_EQ(intersectingPairs(mesh).size(), freed ? 0u : 1u);
+        EXPECT_TRUE(mesh.points[0].eq(Vec3d(0, 0, freed ? -0.3 : 0.0), 1e-12))
+            << mesh.points[0] << " under " << limit;
+    }
+}
+
+// The hexagon's centre lies 1.5 above its source, the flat hexagon: pulled down the way to
+// its nearest source point, by eighths, it stops at the first within 0.95 of it, 0.9375.
+TEST_F(TestPatchSeparation, testPullTowardsSource)
+{
+    vdbi::InterfaceMesh mesh = makeMesh(hexagonPoints(Vec3d(0, 0, 1.5)), {{1, 2, hexagonFan()}});
+    const vdbi::InterfaceMesh raw = makeMesh(hexagonPoints(Vec3d(0, 0, 0)),
+                                             {{1, 2, hexagonFan()}});
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 2.0);
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 2.0;
+    settings.source = &source;
+    settings.sourceLimit = 0.95;
+    std::vector<std::uint8_t> movable(7, 0);
+    movable[0] = 1;
+    EXPECT_EQ(vdbi::pullTowardsSource(mesh, movable, settings, {0}), 1u);
+    EXPECT_TRUE(mesh.points[0].eq(Vec3d(0, 0, 0.9375), 1e-12)) << mesh.points[0];
+    // Within the limit now: a second pull leaves it.
+    EXPECT_EQ(vdbi::pullTowardsSource(mesh, movable, settings, {0}), 0u);
+}
+
+// As above, with a locked triangle of another patch level at z = 0.6 around the axis: at
+// 0.9375 and at 0.75 the fan would pass through it, so the centre goes on to 0.5625, under it.
+TEST_F(TestPatchSeparation, testPullAddsNoMeetingPair)
+{
+    std::vector<Vec3d> points = hexagonPoints(Vec3d(0, 0, 1.5));
+    points.insert(points.end(), {Vec3d(0.5, 0, 0.6), Vec3d(-0.25, 0.45, 0.6),
+                                 Vec3d(-0.25, -0.45, 0.6)});
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    ASSERT_TRUE(intersectingPairs(mesh).empty());
+    std::vector<Vec3d> rawPoints = hexagonPoints(Vec3d(0, 0, 0));
+    rawPoints.insert(rawPoints.end(), points.begin() + 7, points.end());
+    const vdbi::InterfaceMesh raw =
+        makeMesh(rawPoints, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 2.0);
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 2.0;
+    settings.source = &source;
+    settings.sourceLimit = 0.95;
+    std::vector<std::uint8_t> movable(points.size(), 0);
+    movable[0] = 1;
+    EXPECT_EQ(vdbi::pullTowardsSource(mesh, movable, settings, {0}), 1u);
+    EXPECT_TRUE(mesh.points[0].eq(Vec3d(0, 0, 0.5625), 1e-12)) << mesh.points[0];
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
+}

@@ -269,11 +269,20 @@ checkRemeshing(const std::string& name, const vdbi::InterfaceMesh& raw, double t
     }
 }
 
+/// What checkFrogCrossings() asserts of closeness (in voxels, measureCloseness()).
+enum class FrogCloseness
+{
+    Unmeasured,
+    VerticesWithinVoxel,   ///< every remeshed vertex within one voxel of the raw faces
+    WithinVoxel            ///< that, and every raw face centre within one of the result
+};
+
 /// The frog remeshed at @a voxels voxels: the output's guarantees and no intersecting pairs,
 /// by the independent checker; the smallest angles' 1st percentile at least @a minAngleP1
-/// degrees; with @a withinVoxel, closeness within one voxel both ways.
+/// degrees; closeness as @a closeness says.
 void
-checkFrogCrossings(double voxels, double minAngleP1 = 0.0, bool withinVoxel = false)
+checkFrogCrossings(double voxels, double minAngleP1 = 0.0,
+                   FrogCloseness closeness = FrogCloseness::Unmeasured)
 {
     const auto frog = vdbi::readLabelVolume(vdbi_test::dataPath("frogtissue.mhd"));
     const vdbi::InterfaceMesh raw = extract(*frog);
@@ -289,12 +298,12 @@ checkFrogCrossings(double voxels, double minAngleP1 = 0.0, bool withinVoxel = fa
     const vdbi_test::MeshQuality quality = vdbi_test::measureMeshQuality(out, options.edgeLength);
     std::printf("[ frog, %g voxels ] %s\n", voxels, quality.summary().c_str());
     EXPECT_GE(quality.angleP1, minAngleP1);
-    if (!withinVoxel) return;
+    if (closeness == FrogCloseness::Unmeasured) return;
     const vdbi_test::Closeness c = vdbi_test::measureCloseness(raw, out, frog->voxelSize());
     std::printf("[ frog, %g voxels ] remeshed->raw %.3f, raw->remeshed %.3f voxels\n", voxels,
                 c.vertexToRaw, c.rawToOutput);
     EXPECT_LE(c.vertexToRaw, 1.0);
-    EXPECT_LE(c.rawToOutput, 1.0);
+    if (closeness == FrogCloseness::WithinVoxel) EXPECT_LE(c.rawToOutput, 1.0);
 }
 
 } // namespace
@@ -564,25 +573,29 @@ TEST_F(TestRemeshing, testFrogAtOneVoxel)
 // asserts it on the other volumes.
 TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 {
-    checkFrogCrossings(2.0, 20.0, true);
+    checkFrogCrossings(2.0, 20.0, FrogCloseness::WithinVoxel);
 }
 
 // At four voxels: 39 pairs were left while the first round collapsed straight from the
 // staircase to the target (fans of a dozen triangles and more where the extraction refined
-// the voxels); through halved targets (0.5, 1 and 2 voxels) none is.
+// the voxels); through halved targets (0.5, 1 and 2 voxels) none is. Remeshed vertices lie
+// within one voxel of the raw faces: separation pushed one to 1.16 voxels before its moves
+// were bounded, and one that remeshing could not project stayed at 1.03 before
+// pullTowardsSource(). Raw faces lie up to 1.10 voxels from the result: not asserted (open).
 TEST_F(TestRemeshing, testFrogAtFourVoxels)
 {
-    checkFrogCrossings(4.0);
+    checkFrogCrossings(4.0, 0.0, FrogCloseness::VerticesWithinVoxel);
 }
 
 // The geometry on every sample volume at 1, 2 and 4 voxels: closeness within one
 // voxel both ways and no intersecting triangles. Fails today (open) at 4 voxels on
-// closeness: remeshed inner vertices lie up to 1.19 voxels from the raw faces (monu16) and
-// raw faces up to 1.02 voxels from the result (menger); within one voxel at 1 and 2, and no
-// intersecting pairs anywhere (bench_remesh --check; frog at 4 voxels, not run here: 1.16
-// and 1.10). Menger's vertices were up to 1.63 voxels away (the frog's 1.39) while edges
-// across bends tighter than the target were split: the midpoints stayed on the chords for
-// good (RemeshingPatch::wouldStrandMidpoint()). About 9 minutes.
+// closeness: remeshed inner vertices lie up to 1.15 voxels from the raw faces (monu16: a
+// midpoint that separation split on a chord already that far, held in place by the triangle
+// it was split to free) and raw faces up to 1.02 voxels from the result (menger); within one
+// voxel at 1 and 2, and no intersecting pairs anywhere (bench_remesh --check; frog at 4
+// voxels, not run here: 0.93 and 1.10). Menger's vertices were up to 1.63 voxels away (the
+// frog's 1.39) while edges across bends tighter than the target were split: the midpoints
+// stayed on the chords for good (RemeshingPatch::wouldStrandMidpoint()). About 9 minutes.
 TEST_F(TestRemeshing, DISABLED_testSampleVolumesGeometry)
 {
     for (const char* file : {"chr_knight.vox", "monu1.vox", "monu16.vox", "menger.vox"}) {

@@ -320,7 +320,11 @@ RemeshingPatch::exportMesh() const
             index[v.idx()] = std::uint32_t(s);
         } else {
             index[v.idx()] = sampleCount + std::uint32_t(result.innerPoints.size());
-            result.innerPoints.push_back(toVec(mMesh.point(v)));
+            const openvdb::Vec3d p = toVec(mMesh.point(v));
+            result.innerPoints.push_back(p);
+            const ReferenceSurface::Hit hit =
+                reference().closestPointNear(p, mMesh.property(mRefTriangle, v));
+            result.referenceDistances.push_back((hit.point - p).length());
         }
     }
     for (const FaceHandle f : mMesh.faces()) {

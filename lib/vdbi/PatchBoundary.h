@@ -25,6 +25,10 @@ struct PatchResult
 {
     std::vector<openvdb::Vec3d> innerPoints;
     std::vector<std::array<std::uint32_t, 3>> triangles;
+    /// Per inner point, its distance to the reference surface (world units): a point off it
+    /// (one projection refused, a collapse or smoothing move made last) may lie far from the
+    /// voxel faces.
+    std::vector<double> referenceDistances;
 };
 
 /// @brief A patch as an OpenMesh mesh on its reference surface, bounded by the feature curve

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace vdbi {
@@ -51,6 +52,9 @@ public:
         , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
     {
         trianglesAroundPoints(mesh, mStart, mAround);
+        if (settings.source) {
+            mStartDistance.assign(mesh.points.size(), std::numeric_limits<double>::quiet_NaN());
+        }
     }
 
     /// The rounds; returns every pair of triangles meeting after them, ascending.
@@ -99,6 +103,42 @@ public:
             moveGroups(widened, active, meeting);
         }
         return meeting;
+    }
+
+    /// pullTowardsSource() of one point; true if it moved.
+    bool pullTowardsSource(std::uint32_t v)
+    {
+        if (!mMovable[v] || mStart[v] == mStart[v + 1]) return false;
+        collectPatchesAround(v);
+        const RawPatchDistance::Hit hit = mSettings.source->farthest(mMesh.points[v],
+                                                                     mPatchesHere);
+        if (hit.distance <= mSettings.sourceLimit) return false;
+        Vec3d normal(0.0);
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            normal += faceNormal(mAround[i]);
+        }
+        const Vec3d here = mMesh.points[v];
+        const std::size_t meetings = meetingsAround(v, &mMeetingHere);
+        // The eighths within the limit, nearest to the point first; else the others, nearest
+        // to the source first (the point comes closer at least).
+        int firstWithin = 9;
+        for (int eighths = 1; eighths <= 8; ++eighths) {
+            const Vec3d next = here + (hit.point - here) * (eighths / 8.0);
+            // The hit bounds the distance from there: no query while that is over the limit.
+            if ((1.0 - eighths / 8.0) * hit.distance > mSettings.sourceLimit
+                && mSettings.source->farthest(next, mPatchesHere).distance
+                    > mSettings.sourceLimit) {
+                continue;
+            }
+            firstWithin = std::min(firstWithin, eighths);
+            if (moveTo(v, next, normal, meetings)) return true;
+        }
+        for (int eighths = firstWithin - 1; eighths >= 1; --eighths) {
+            if (moveTo(v, here + (hit.point - here) * (eighths / 8.0), normal, meetings)) {
+                return true;
+            }
+        }
+        return false;
     }
 
 private:
@@ -367,10 +407,40 @@ private:
         return false;
     }
 
-    /// Is @a p within maxMove of where @a v started?
-    bool withinReach(std::uint32_t v, const Vec3d& p) const
+    /// Is @a p within maxMove of where @a v started, and close enough to its source?
+    bool withinReach(std::uint32_t v, const Vec3d& p)
     {
-        return (p - mOrigin[v]).length() <= mSettings.maxMove;
+        const double moved = (p - mOrigin[v]).length();
+        return moved <= mSettings.maxMove && keepsClose(v, p, moved);
+    }
+
+    /// @brief Is @a p, @a moved away from where @a v started, within sourceLimit of the
+    /// source of @a v's patches, or no farther than the start?
+    /// @details The start's distance is asked once; a place whose distance that bounds by
+    /// the triangle inequality needs no query.
+    bool keepsClose(std::uint32_t v, const Vec3d& p, double moved)
+    {
+        if (!mSettings.source) return true;
+        collectPatchesAround(v);
+        double& atStart = mStartDistance[v];
+        if (std::isnan(atStart)) {
+            atStart = mSettings.source->farthest(mOrigin[v], mPatchesHere).distance;
+        }
+        const double allowed = std::max(mSettings.sourceLimit, atStart);
+        if (atStart + moved / mSettings.sourceUnit <= allowed) return true;
+        return mSettings.source->farthest(p, mPatchesHere).distance <= allowed;
+    }
+
+    /// mPatchesHere: the patches of the triangles around @a v, ascending.
+    void collectPatchesAround(std::uint32_t v)
+    {
+        mPatchesHere.clear();
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            mPatchesHere.push_back(mPatchOf[mAround[i]]);
+        }
+        std::sort(mPatchesHere.begin(), mPatchesHere.end());
+        mPatchesHere.erase(std::unique(mPatchesHere.begin(), mPatchesHere.end()),
+                           mPatchesHere.end());
     }
 
     /// The mean of the other corners of the triangles around @a v, pulled back to within
@@ -413,9 +483,53 @@ private:
     std::vector<Vec3d> mGroupPoints;
     /// Per triangle: in a meeting pair (set at the start of every widened round).
     std::vector<char> mIsMeeting;
+    /// Per point, its start's distance to its source (NaN until asked), and keepsClose()'s
+    /// patches.
+    std::vector<double> mStartDistance;
+    std::vector<std::uint32_t> mPatchesHere;
 };
 
 } // namespace
+
+
+std::size_t
+pullTowardsSource(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                  const SeparationSettings& settings, const std::vector<std::uint32_t>& points)
+{
+    // Most points are close enough: the state, with a grid over the whole mesh, is built only
+    // if one is not.
+    std::vector<std::uint32_t> asked;
+    for (const std::uint32_t v : points) if (movable[v]) asked.push_back(v);
+    std::sort(asked.begin(), asked.end());
+    asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
+    std::vector<std::vector<std::uint32_t>> patchesOf(asked.size());
+    for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
+        const InterfacePatch& patch = mesh.patches[p];
+        for (std::size_t t = patch.firstTriangle; t < patch.firstTriangle + patch.triangleCount;
+             ++t) {
+            for (int k = 0; k < 3; ++k) {
+                const auto it = std::lower_bound(asked.begin(), asked.end(), mesh.triangles[t][k]);
+                if (it == asked.end() || *it != mesh.triangles[t][k]) continue;
+                std::vector<std::uint32_t>& list = patchesOf[std::size_t(it - asked.begin())];
+                if (list.empty() || list.back() != p) list.push_back(p);
+            }
+        }
+    }
+    std::vector<std::uint32_t> far;
+    for (const std::uint32_t v : points) {
+        const auto it = std::lower_bound(asked.begin(), asked.end(), v);
+        if (it == asked.end() || *it != v) continue;
+        const std::vector<std::uint32_t>& patches = patchesOf[std::size_t(it - asked.begin())];
+        if (settings.source->farthest(mesh.points[v], patches).distance > settings.sourceLimit) {
+            far.push_back(v);
+        }
+    }
+    if (far.empty()) return 0;
+    Separation separation(mesh, movable, settings, nullptr);
+    std::size_t moved = 0;
+    for (const std::uint32_t v : far) moved += separation.pullTowardsSource(v);
+    return moved;
+}
 
 
 std::size_t
@@ -573,8 +687,9 @@ separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
             });
             if (near) region.triangles.push_back(mesh.triangles[f]);
         }
+        // Empty ones too: patch indices stay those of the mesh (settings.source takes them).
         part.triangleCount = region.triangles.size() - part.firstTriangle;
-        if (part.triangleCount > 0) region.patches.push_back(part);
+        region.patches.push_back(part);
     }
     region.points.swap(mesh.points);
     const std::size_t left = separatePatches(region, free, settings, &start);

@@ -9,6 +9,7 @@
 
 #include <vdbi/CandidateGrid.h>
 #include <vdbi/InterfaceMesh.h>
+#include <vdbi/RawPatchDistance.h>
 
 #include <openvdb/Types.h>
 
@@ -29,6 +30,14 @@ struct SeparationSettings
     int rounds = 16;
     /// Look for crossing pairs with TBB (the result is the same either way).
     bool threaded = true;
+    /// @brief If set: the surfaces the mesh's patches were made from (same indices). A move
+    /// may then not take a point farther from those of its patches than @a sourceLimit
+    /// voxels, or than its start was if that is farther.
+    RawPatchDistance* source = nullptr;
+    double sourceLimit = 1.0;
+    /// The smallest side of a voxel (world length): a move by d changes a distance in voxels
+    /// by at most d / sourceUnit.
+    double sourceUnit = 1.0;
 };
 
 /// @brief Moves inner vertices so that triangles cross less, of different patches or of one.
@@ -53,7 +62,8 @@ struct SeparationSettings
 /// The grid is built once, every triangle's box widened by maxMove; a round tests only the
 /// pairs of triangles whose vertices moved in the round before. A move is not made if it
 /// would turn one of the vertex's triangles over (one facing against the vertex normal may
-/// turn to face with it), take the vertex farther than maxMove from its start, or add to
+/// turn to face with it), take the vertex farther than maxMove from its start or (with a
+/// source) from the voxel faces than the source bound allows, or add to
 /// the pairs of triangles (of any patches, one of them the vertex's) that meet: a push
 /// through a third triangle is how separation used to make new crossings.
 /// The pairs are found in parallel; their pushes add up before any vertex moves, and
@@ -103,6 +113,20 @@ std::size_t splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>
 std::size_t separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                            const PointArray& start, const SeparationSettings& settings,
                            std::size_t firstPoint);
+
+/// @brief Moves each of @a points (movable, inner) that lies farther than
+/// settings.sourceLimit from its patch's source (settings.source, which must be set) towards
+/// the nearest point there, by eighths of the way: to the first place within the limit that
+/// turns no triangle over and adds no meeting pair around the point; else, nearest to the
+/// source first, to one that only comes closer.
+/// @details What separation leaves this far: vertices remeshing could not project onto their
+/// reference surface across a crease, and the midpoints that splitMeetingTriangles() made on
+/// chords over a concave bend. The moves are serial, in the order of @a points: the result
+/// depends on the mesh alone.
+/// @return the number of points moved
+std::size_t pullTowardsSource(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                              const SeparationSettings& settings,
+                              const std::vector<std::uint32_t>& points);
 
 } // namespace vdbi
 

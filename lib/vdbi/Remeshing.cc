@@ -9,6 +9,7 @@
 #include <vdbi/MeetingEdgeFlips.h>
 #include <vdbi/PatchBoundary.h>
 #include <vdbi/PatchSeparation.h>
+#include <vdbi/RawPatchDistance.h>
 #include <vdbi/ReferenceSurface.h>
 
 #include <openvdb/Exceptions.h>
@@ -60,6 +61,22 @@ constexpr double SMOOTHING_DEVIATION = 0.5;
 constexpr double FINEST_COARSENING = 0.5;
 /// How far, in voxels, separatePatches() moves a vertex per round.
 constexpr double SEPARATION_STEP = 0.1;
+
+/// @brief How far, in voxels along each axis, separation may take an inner vertex from the
+/// voxel faces of its patches (or no farther than it was), and pullFarPoints() pulls it to.
+/// @details The output promises one voxel. Separation pushed vertices past it (frog at 4
+/// voxels: 1.162, monu16 1.191), and vertices that remeshing could not project onto the
+/// reference stayed there (frog 1.030, monu16 1.046).
+constexpr double CLOSENESS_LIMIT = 0.95;
+/// Distances to the voxel faces are exact up to this times CLOSENESS_LIMIT.
+constexpr double RAW_DISTANCE_RADIUS = 1.25;
+/// @brief How far, in voxels, an inner point may lie from its reference surface before the
+/// last step measures its distance to the voxel faces (pullTowardsSource()).
+/// @details The reference lies within SURFACE_BOUND of the faces, so a point nearer to it is
+/// within about 0.75 voxel of them. Measuring only these finds all: frog at 4 voxels, the
+/// same 5 points are pulled as when every inner point is measured (5311 points instead of
+/// 109 488: 1.9 s less).
+constexpr double OFF_REFERENCE = 0.3;
 
 /// One cycle of separation, splits and flips (separateSplitAndFlip()).
 struct SeparationCycle
@@ -184,6 +201,25 @@ separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& inner,
     flipMeetingEdges(mesh, inner, settings.cellSize, settings.threaded, suspects, &left);
 }
 
+/// pullTowardsSource() of the inner points @a far that lie over CLOSENESS_LIMIT voxels from
+/// their raw patch.
+void
+pullFarPoints(InterfaceMesh& mesh, const std::vector<std::uint8_t>& inner,
+              const std::vector<std::uint32_t>& far, RawPatchDistance& rawDistance,
+              const RemeshOptions& options, const Vec3d& voxel)
+{
+    SeparationSettings pull;
+    pull.cellSize = options.edgeLength;
+    // A pull goes at most the radius of rawDistance, in voxels.
+    pull.maxMove =
+        RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT * std::max({voxel[0], voxel[1], voxel[2]});
+    pull.threaded = options.threaded;
+    pull.source = &rawDistance;
+    pull.sourceLimit = CLOSENESS_LIMIT;
+    pull.sourceUnit = std::min({voxel[0], voxel[1], voxel[2]});
+    pullTowardsSource(mesh, inner, pull, far);
+}
+
 double
 secondsSince(std::chrono::steady_clock::time_point& start)
 {
@@ -270,9 +306,16 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     for (const PatchResult& r : results) triangleCount += r.triangles.size();
     out.triangles.reserve(triangleCount);
     out.patches.reserve(patchCount);
+    // Inner points off their reference surface, that may lie far from the voxel faces.
+    std::vector<std::uint32_t> offReference;
     for (std::size_t p = 0; p < patchCount; ++p) {
         const std::uint32_t offset = std::uint32_t(out.points.size()) - sampleCount;
         PatchResult& r = results[p];
+        for (std::size_t i = 0; i < r.referenceDistances.size(); ++i) {
+            if (r.referenceDistances[i] > OFF_REFERENCE * smallestVoxel) {
+                offReference.push_back(std::uint32_t(out.points.size() + i));
+            }
+        }
         out.points.insert(out.points.end(), r.innerPoints.begin(), r.innerPoints.end());
         InterfacePatch patch;
         patch.a = raw.patches[p].a;
@@ -286,6 +329,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         }
         out.patches.push_back(patch);
         std::vector<Vec3d>().swap(r.innerPoints);
+        std::vector<double>().swap(r.referenceDistances);
         std::vector<std::array<std::uint32_t, 3>>().swap(r.triangles);
     }
     out.keyScale = 0;
@@ -298,8 +342,11 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     for (std::uint32_t i = 0; i < sampleCount; ++i) {
         if (curves.sampleCurves[i] != FeatureCurves::NO_CURVE) innerSamples.push_back(i);
     }
+    const std::size_t remeshedCount = out.points.size();
     PointArray start = out.points;
     TrianglePairs left;
+    RawPatchDistance rawDistance(raw, voxel, RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT,
+                                 options.threaded);
     for (std::size_t c = 0; c < std::size(SEPARATION_CYCLES); ++c) {
         if (c > 0 && left.empty()) break;
         const SeparationCycle& cycle = SEPARATION_CYCLES[c];
@@ -308,6 +355,9 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         separation.step = SEPARATION_STEP * smallestVoxel;
         separation.maxMove = cycle.maxMove * smallestVoxel;
         separation.threaded = options.threaded;
+        separation.source = &rawDistance;
+        separation.sourceLimit = CLOSENESS_LIMIT;
+        separation.sourceUnit = smallestVoxel;
         const std::vector<std::uint32_t> noSamples;
         const std::vector<std::uint32_t>& samples = cycle.samplesMove ? innerSamples : noSamples;
         if (c == 0) {
@@ -325,6 +375,12 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
             left.swap(leftAgain);
         }
     }
+    // Those and the midpoints that separation's splits made.
+    std::vector<std::uint32_t> far = offReference;
+    for (std::size_t v = remeshedCount; v < out.points.size(); ++v) {
+        far.push_back(std::uint32_t(v));
+    }
+    pullFarPoints(out, inner, far, rawDistance, options, voxel);
     // Knots that no move or flip frees: collapse free corners (last: it renumbers points).
     collapseMeetingEdges(out, inner, options.edgeLength, options.threaded, left);
     stats.separationSeconds = secondsSince(clock);

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file TestRawPatchDistance.cc
+/// @brief RawPatchDistance against exact distances on hand-made patches and against a brute
+/// force over every triangle on a seeded random staircase.
+
+#include "support/HandMadeMeshes.h"
+
+#include <vdbi/RawPatchDistance.h>
+#include <vdbi/ReferenceSurface.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+using openvdb::Vec3d;
+using openvdb::Vec3I;
+
+class TestRawPatchDistance : public ::testing::Test
+{
+};
+
+namespace {
+
+/// Patch (1, 2): the unit square at z = 0; patch (1, 3): the unit square at x = 0.
+vdbi::InterfaceMesh
+twoSquares()
+{
+    const std::vector<Vec3d> points = {Vec3d(0, 0, 0), Vec3d(1, 0, 0), Vec3d(1, 1, 0),
+                                       Vec3d(0, 1, 0), Vec3d(0, 0, 1), Vec3d(0, 1, 1)};
+    return vdbi_test::makeMesh(points, {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}},
+                                        {1, 3, {Vec3I(0, 3, 5), Vec3I(0, 5, 4)}}});
+}
+
+} // namespace
+
+// Distances count in voxels along each axis: with voxels 2 high, 0.6 above the square is 0.3.
+TEST_F(TestRawPatchDistance, testExactDistancesInVoxels)
+{
+    const vdbi::InterfaceMesh raw = twoSquares();
+    vdbi::RawPatchDistance distance(raw, Vec3d(1, 1, 2), 1.5);
+
+    vdbi::RawPatchDistance::Hit hit = distance.nearest(Vec3d(0.5, 0.5, 0.6), 0);
+    EXPECT_NEAR(hit.distance, 0.3, 1e-12);
+    EXPECT_TRUE(hit.point.eq(Vec3d(0.5, 0.5, 0.0), 1e-12)) << hit.point;
+
+    // Beside the square: the nearest point is on its edge x = 1.
+    hit = distance.nearest(Vec3d(2.0, 0.25, 0.0), 0);
+    EXPECT_NEAR(hit.distance, 1.0, 1e-12);
+    EXPECT_TRUE(hit.point.eq(Vec3d(1.0, 0.25, 0.0), 1e-12)) << hit.point;
+
+    // Beyond the radius: the radius, at the query.
+    hit = distance.nearest(Vec3d(0.5, 0.5, 4.0), 0);
+    EXPECT_DOUBLE_EQ(hit.distance, 1.5);
+    EXPECT_EQ(hit.point, Vec3d(0.5, 0.5, 4.0));
+
+    // (0.8, 0.5, 0.4): 0.2 voxel above (1, 2), 0.8 voxel from (1, 3); the farther one counts.
+    hit = distance.farthest(Vec3d(0.8, 0.5, 0.4), {0, 1});
+    EXPECT_NEAR(hit.distance, 0.8, 1e-12);
+    EXPECT_TRUE(hit.point.eq(Vec3d(0.0, 0.5, 0.4), 1e-12)) << hit.point;
+    EXPECT_NEAR(distance.farthest(Vec3d(0.8, 0.5, 0.4), {0}).distance, 0.2, 1e-12);
+}
+
+// A staircase of voxel faces over a random height field, anisotropic voxels: every distance
+// under the radius is the brute-force minimum over all triangles, every other is the radius.
+TEST_F(TestRawPatchDistance, testMatchesBruteForceOnRandomStaircase)
+{
+    const Vec3d voxel(1.0, 1.25, 1.5);
+    const int n = 12;
+    std::mt19937 random(20261205);
+    std::uniform_int_distribution<int> height(0, 3);
+    std::vector<int> h(n * n);
+    for (int& z : h) z = height(random);
+    std::vector<Vec3d> points;
+    std::vector<Vec3I> triangles;
+    auto square = [&](const Vec3d& o, const Vec3d& u, const Vec3d& v) {
+        const std::uint32_t first = std::uint32_t(points.size());
+        for (const Vec3d& p : {o, o + u, o + u + v, o + v}) {
+            points.push_back(Vec3d(p[0] * voxel[0], p[1] * voxel[1], p[2] * voxel[2]));
+        }
+        triangles.push_back(Vec3I(first, first + 1, first + 2));
+        triangles.push_back(Vec3I(first, first + 2, first + 3));
+    };
+    for (int x = 0; x < n; ++x) {
+        for (int y = 0; y < n; ++y) {
+            const int z = h[x * n + y];
+            square(Vec3d(x, y, z), Vec3d(1, 0, 0), Vec3d(0, 1, 0));
+            if (x + 1 < n) {
+                const int w = h[(x + 1) * n + y];
+                square(Vec3d(x + 1, y, std::min(z, w)), Vec3d(0, 1, 0),
+                       Vec3d(0, 0, std::abs(w - z)));
+            }
+            if (y + 1 < n) {
+                const int w = h[x * n + y + 1];
+                square(Vec3d(x, y + 1, std::min(z, w)), Vec3d(1, 0, 0),
+                       Vec3d(0, 0, std::abs(w - z)));
+            }
+        }
+    }
+    vdbi::InterfaceMesh raw = vdbi_test::makeMesh(points, {{1, 2, triangles}});
+    const double radius = 1.2;
+    vdbi::RawPatchDistance distance(raw, voxel, radius);
+
+    std::uniform_real_distribution<double> along(-1.0, n + 1.0), up(-1.5, 5.0);
+    int within = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3d q(along(random), along(random), up(random));
+        const Vec3d world(q[0] * voxel[0], q[1] * voxel[1], q[2] * voxel[2]);
+        double brute = radius;
+        for (const Vec3I& t : triangles) {
+            Vec3d bary;
+            auto scaled = [&](std::uint32_t v) {
+                const Vec3d& p = points[v];
+                return Vec3d(p[0] / voxel[0], p[1] / voxel[1], p[2] / voxel[2]);
+            };
+            const Vec3d nearest =
+                vdbi::closestPointOnTriangle(q, scaled(t[0]), scaled(t[1]), scaled(t[2]), bary);
+            brute = std::min(brute, (nearest - q).length());
+        }
+        within += brute < radius;
+        EXPECT_NEAR(distance.nearest(world, 0).distance, brute, 1e-9) << "query " << q;
+    }
+    // Both kinds of query were asked.
+    EXPECT_GT(within, 200);
+    EXPECT_LT(within, 1800);
+}
