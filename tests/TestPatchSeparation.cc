@@ -531,3 +531,35 @@ TEST_F(TestPatchSeparation, testPullAddsNoMeetingPair)
     EXPECT_TRUE(mesh.points[0].eq(Vec3d(0, 0, 0.5625), 1e-12)) << mesh.points[0];
     EXPECT_TRUE(intersectingPairs(mesh).empty());
 }
+
+// A locked triangle (0, 1, 2) of patch (1, 2), with a neighbour across each edge, has a small
+// locked triangle of (1, 3) standing through it. Its longest edge (0, 1) is split, at
+// (2, 0, 0); with a source (the voxel faces) lying only around the midpoint of (1, 2), that
+// edge's midpoint is within the limit and the other not: (1, 2) is split instead, at
+// (2.5, 1, 0). A far midpoint moved by separation would stay far.
+TEST_F(TestPatchSeparation, testSplitPrefersMidpointsNearTheSource)
+{
+    const std::vector<Vec3d> points = {
+        Vec3d(0, 0, 0), Vec3d(4, 0, 0), Vec3d(1, 2, 0), Vec3d(2, -1, 0), Vec3d(3, 2, 0),
+        Vec3d(-1, 1, 0),                                                               // (1, 2)
+        Vec3d(1.5, 0.6, -0.5), Vec3d(1.9, 0.6, -0.5), Vec3d(1.7, 0.7, 0.5)};          // (1, 3)
+    const std::vector<PatchSpec> patches = {
+        {1, 2, {Vec3I(0, 1, 2), Vec3I(1, 0, 3), Vec3I(2, 1, 4), Vec3I(0, 2, 5)}},
+        {1, 3, {Vec3I(6, 7, 8)}}};
+    const vdbi::InterfaceMesh raw = makeMesh(
+        {Vec3d(2.3, 0.9, 0), Vec3d(2.7, 0.9, 0), Vec3d(2.5, 1.2, 0), points[6], points[7],
+         points[8]},
+        {{1, 2, {Vec3I(0, 1, 2)}}, {1, 3, {Vec3I(3, 4, 5)}}});
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 1.0);
+    for (const bool withSource : {false, true}) {
+        vdbi::InterfaceMesh mesh = makeMesh(points, patches);
+        ASSERT_EQ(intersectingPairs(mesh),
+                  (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 4}}));
+        std::vector<std::uint8_t> movable(points.size(), 0);
+        vdbi::PointArray start = mesh.points;
+        EXPECT_EQ(vdbi::splitMeetingTriangles(mesh, movable, start, {{0, 4}},
+                                              withSource ? &source : nullptr, 0.5), 1u);
+        ASSERT_EQ(mesh.points.size(), points.size() + 1);
+        EXPECT_EQ(mesh.points.back(), withSource ? Vec3d(2.5, 1, 0) : Vec3d(2, 0, 0));
+    }
+}

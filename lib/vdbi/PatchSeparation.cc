@@ -546,7 +546,8 @@ separatePatches(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
 
 std::size_t
 splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
-                      PointArray& start, const TrianglePairs& pairs)
+                      PointArray& start, const TrianglePairs& pairs, RawPatchDistance* source,
+                      double sourceLimit)
 {
     // The meeting triangles with at most one free corner.
     std::vector<std::uint32_t> meeting;
@@ -583,15 +584,24 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
         int best = -1;
         std::int64_t bestOther = -1;
         double bestLength = 0.0;
+        bool bestNear = false;
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t a = t[i], b = t[(i + 1) % 3];
             const double length = (mesh.points[a] - mesh.points[b]).lengthSqr();
-            if (length <= bestLength) continue;
             const std::int64_t g = across(f, a, b);
             if (g < 0 || changed[g]) continue;
+            bool near = true;
+            if (source) {
+                const std::vector<std::uint32_t> patches{patchOf[f]};
+                const Vec3d midpoint = (mesh.points[a] + mesh.points[b]) * 0.5;
+                near = source->farthest(midpoint, patches).distance <= sourceLimit;
+            }
+            if (bestNear && !near) continue;
+            if (near == bestNear && length <= bestLength) continue;
             best = i;
             bestOther = g;
             bestLength = length;
+            bestNear = near;
         }
         if (best < 0) continue;
         const std::uint32_t g = std::uint32_t(bestOther);

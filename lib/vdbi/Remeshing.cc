@@ -63,7 +63,8 @@ constexpr double FINEST_COARSENING = 0.5;
 constexpr double SEPARATION_STEP = 0.1;
 
 /// @brief How far, in voxels along each axis, separation may take an inner vertex from the
-/// voxel faces of its patches (or no farther than it was), and pullFarPoints() pulls it to.
+/// voxel faces of its patches (or no farther than it was), its splits prefer midpoints
+/// within, and pullFarPoints() pulls vertices to.
 /// @details The output promises one voxel. Separation pushed vertices past it (frog at 4
 /// voxels: 1.162, monu16 1.191), and vertices that remeshing could not project onto the
 /// reference stayed there (frog 1.030, monu16 1.046).
@@ -187,7 +188,8 @@ separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& inner,
         }
     }
     const std::size_t firstNew = mesh.points.size();
-    if (splitMeetingTriangles(mesh, inner, start, meeting) > 0) {
+    if (splitMeetingTriangles(mesh, inner, start, meeting, settings.source,
+                              settings.sourceLimit) > 0) {
         moving.resize(inner.size(), 1);
         separateAround(mesh, moving, start, settings, firstNew);
     }
