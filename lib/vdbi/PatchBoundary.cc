@@ -308,7 +308,7 @@ RemeshingPatch::hasExpectedBoundary() const
 
 
 PatchResult
-RemeshingPatch::exportMesh() const
+RemeshingPatch::exportMesh(bool measureReference) const
 {
     const std::uint32_t sampleCount = std::uint32_t(mCurves.samplePoints.size());
     PatchResult result;
@@ -322,6 +322,7 @@ RemeshingPatch::exportMesh() const
             index[v.idx()] = sampleCount + std::uint32_t(result.innerPoints.size());
             const openvdb::Vec3d p = toVec(mMesh.point(v));
             result.innerPoints.push_back(p);
+            if (!measureReference) continue;
             const ReferenceSurface::Hit hit =
                 reference().closestPointNear(p, mMesh.property(mRefTriangle, v));
             result.referenceDistances.push_back((hit.point - p).length());

@@ -27,7 +27,7 @@ struct PatchResult
     std::vector<std::array<std::uint32_t, 3>> triangles;
     /// Per inner point, its distance to the reference surface (world units): a point off it
     /// (one projection refused, a collapse or smoothing move made last) may lie far from the
-    /// voxel faces.
+    /// voxel faces. Empty unless exportMesh() measured them.
     std::vector<double> referenceDistances;
 };
 
@@ -64,8 +64,9 @@ public:
     /// Is the boundary exactly the curve samples' segments, with every inner edge between two
     /// locked vertices one that mayJoinLocked() allows?
     bool hasExpectedBoundary() const;
-    /// The live triangles, vertices numbered as PatchResult says.
-    PatchResult exportMesh() const;
+    /// The live triangles, vertices numbered as PatchResult says; its referenceDistances only
+    /// if @a measureReference (a query per point: millions on the frog's extracted patches).
+    PatchResult exportMesh(bool measureReference = false) const;
     /// "remeshing patch (a, b)", for messages.
     std::string where() const;
 

@@ -288,7 +288,8 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         // Fallback: the extracted triangles fitted to the samples, should a round go wrong.
         PatchResult fitted = patch.exportMesh();
         if (!remeshIsotropically(patch, settings, interrupt)) return;
-        results[p] = patch.hasExpectedBoundary() ? patch.exportMesh() : std::move(fitted);
+        // The fallback's inner points are the extracted ones: at the voxel faces.
+        results[p] = patch.hasExpectedBoundary() ? patch.exportMesh(true) : std::move(fitted);
         remeshingTimes[p] = secondsSince(patchClock);
     });
     interrupt.throwIfStopped("remeshing");
