@@ -38,6 +38,19 @@ latticeDirections()
 
 using Pairs = TrianglePairs;
 
+/// @a patches: those of the triangles around point @a v, ascending (@a first and @a around:
+/// trianglesAroundPoints(), @a patchOf: trianglePatches()).
+void
+patchesAround(std::uint32_t v, const std::vector<std::uint32_t>& first,
+              const std::vector<std::uint32_t>& around, const std::vector<std::uint32_t>& patchOf,
+              std::vector<std::uint32_t>& patches)
+{
+    patches.clear();
+    for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) patches.push_back(patchOf[around[i]]);
+    std::sort(patches.begin(), patches.end());
+    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+}
+
 /// @brief The state of separatePatches(): the triangles around every point, the candidate
 /// grid, and where every point started.
 class Separation
@@ -113,10 +126,7 @@ public:
         const RawPatchDistance::Hit hit = mSettings.source->farthest(mMesh.points[v],
                                                                      mPatchesHere);
         if (hit.distance <= mSettings.sourceLimit) return false;
-        Vec3d normal(0.0);
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            normal += faceNormal(mAround[i]);
-        }
+        const Vec3d normal = vertexNormal(v);
         const Vec3d here = mMesh.points[v];
         const std::size_t meetings = meetingsAround(v, &mMeetingHere);
         // The eighths within the limit, nearest to the point first; else the others, nearest
@@ -289,10 +299,7 @@ private:
     /// monu16 at 1 voxel: 4 -> 0).
     bool moveCorner(std::uint32_t v, int direction)
     {
-        Vec3d normal(0.0);
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            normal += faceNormal(mAround[i]);
-        }
+        const Vec3d normal = vertexNormal(v);
         const double length = normal.length();
         const Vec3d here = mMesh.points[v];
         const Vec3d step = length > 0.0 ? normal * (mSettings.step / length) : Vec3d(0.0);
@@ -434,13 +441,17 @@ private:
     /// mPatchesHere: the patches of the triangles around @a v, ascending.
     void collectPatchesAround(std::uint32_t v)
     {
-        mPatchesHere.clear();
+        patchesAround(v, mStart, mAround, mPatchOf, mPatchesHere);
+    }
+
+    /// The sum of the (area-weighted) normals of the triangles around @a v.
+    Vec3d vertexNormal(std::uint32_t v) const
+    {
+        Vec3d normal(0.0);
         for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            mPatchesHere.push_back(mPatchOf[mAround[i]]);
+            normal += faceNormal(mAround[i]);
         }
-        std::sort(mPatchesHere.begin(), mPatchesHere.end());
-        mPatchesHere.erase(std::unique(mPatchesHere.begin(), mPatchesHere.end()),
-                           mPatchesHere.end());
+        return normal;
     }
 
     /// The mean of the other corners of the triangles around @a v, pulled back to within
@@ -498,28 +509,12 @@ pullTowardsSource(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
 {
     // Most points are close enough: the state, with a grid over the whole mesh, is built only
     // if one is not.
-    std::vector<std::uint32_t> asked;
-    for (const std::uint32_t v : points) if (movable[v]) asked.push_back(v);
-    std::sort(asked.begin(), asked.end());
-    asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
-    std::vector<std::vector<std::uint32_t>> patchesOf(asked.size());
-    for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
-        const InterfacePatch& patch = mesh.patches[p];
-        for (std::size_t t = patch.firstTriangle; t < patch.firstTriangle + patch.triangleCount;
-             ++t) {
-            for (int k = 0; k < 3; ++k) {
-                const auto it = std::lower_bound(asked.begin(), asked.end(), mesh.triangles[t][k]);
-                if (it == asked.end() || *it != mesh.triangles[t][k]) continue;
-                std::vector<std::uint32_t>& list = patchesOf[std::size_t(it - asked.begin())];
-                if (list.empty() || list.back() != p) list.push_back(p);
-            }
-        }
-    }
-    std::vector<std::uint32_t> far;
+    const std::vector<std::uint32_t> patchOf = trianglePatches(mesh);
+    std::vector<std::uint32_t> first, around, patches, far;
+    trianglesAroundPoints(mesh, first, around);
     for (const std::uint32_t v : points) {
-        const auto it = std::lower_bound(asked.begin(), asked.end(), v);
-        if (it == asked.end() || *it != v) continue;
-        const std::vector<std::uint32_t>& patches = patchesOf[std::size_t(it - asked.begin())];
+        if (!movable[v]) continue;
+        patchesAround(v, first, around, patchOf, patches);
         if (settings.source->farthest(mesh.points[v], patches).distance > settings.sourceLimit) {
             far.push_back(v);
         }
@@ -585,6 +580,7 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
         std::int64_t bestOther = -1;
         double bestLength = 0.0;
         bool bestNear = false;
+        const std::vector<std::uint32_t> patches{patchOf[f]};
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t a = t[i], b = t[(i + 1) % 3];
             const double length = (mesh.points[a] - mesh.points[b]).lengthSqr();
@@ -592,7 +588,6 @@ splitMeetingTriangles(InterfaceMesh& mesh, std::vector<std::uint8_t>& movable,
             if (g < 0 || changed[g]) continue;
             bool near = true;
             if (source) {
-                const std::vector<std::uint32_t> patches{patchOf[f]};
                 const Vec3d midpoint = (mesh.points[a] + mesh.points[b]) * 0.5;
                 near = source->farthest(midpoint, patches).distance <= sourceLimit;
             }
