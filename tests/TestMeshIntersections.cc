@@ -191,9 +191,11 @@ TEST_F(TestMeshIntersections, testCloseness)
     auto c = vdbi_test::measureCloseness(raw, square(1.0), voxel);
     EXPECT_NEAR(c.vertexToRaw, 0.5, 1e-12);
     EXPECT_NEAR(c.rawToOutput, 0.5, 1e-12);
+    EXPECT_NEAR(c.faceCentreToOutput, 0.5, 1e-12);
     c = vdbi_test::measureCloseness(raw, square(7.0), voxel);   // 3.5 voxels
     EXPECT_GT(c.vertexToRaw, 2.0);
     EXPECT_GT(c.rawToOutput, 2.0);
+    EXPECT_GT(c.faceCentreToOutput, 2.0);
     // A smaller square inside: its vertices are on the raw one, but the centroid (8/3, 8/3)
     // of the raw triangle (1, 3, 2) is far from its corner (1.5, 1.5).
     const auto inner = meshOf({{0.5, 0.5, 0}, {1.5, 0.5, 0}, {0.5, 1.5, 0}, {1.5, 1.5, 0}},
@@ -201,4 +203,31 @@ TEST_F(TestMeshIntersections, testCloseness)
     c = vdbi_test::measureCloseness(raw, inner, voxel);
     EXPECT_NEAR(c.vertexToRaw, 0.0, 1e-12);
     EXPECT_NEAR(c.rawToOutput, std::sqrt(2.0) * (8.0 / 3.0 - 1.5), 1e-12);
+    // The face centre (2, 2) lies sqrt(2) * 0.5 from that corner.
+    EXPECT_NEAR(c.faceCentreToOutput, std::sqrt(0.5), 1e-12);
+}
+
+// The centre of the voxel face a raw triangle belongs to: the two halves of a face, the fan
+// triangles of a face with split sides (odd and even subdivisions), voxels of 1 x 1 x 1.5.
+TEST_F(TestMeshIntersections, testVoxelFaceCentre)
+{
+    using vdbi_test::voxelFaceCentre;
+    auto expectNear = [](const Vec3d& got, const Vec3d& expected) {
+        EXPECT_NEAR((got - expected).length(), 0.0, 1e-12) << got << " vs " << expected;
+    };
+    // Both halves of the face x = 2 over [3, 4] x [5, 6], in either order of corners.
+    expectNear(voxelFaceCentre({2, 3, 5}, {2, 4, 5}, {2, 4, 6}), {2, 3.5, 5.5});
+    expectNear(voxelFaceCentre({2, 3, 5}, {2, 4, 6}, {2, 3, 6}), {2, 3.5, 5.5});
+    expectNear(voxelFaceCentre({2, 4, 6}, {2, 3, 5}, {2, 3, 6}), {2, 3.5, 5.5});
+    // In the plane y = 1, in voxel units of a 1.5-voxel z: the same in scaled coordinates.
+    const double z0 = 4.5 / 1.5, z1 = 6.0 / 1.5;
+    expectNear(voxelFaceCentre({0, 1, z0}, {1, 1, z0}, {1, 1, z1}), {0.5, 1, 0.5 * (z0 + z1)});
+    // A fan from the centre (2, 3.5, 5.5): a whole side, and a piece of a side split in 3.
+    expectNear(voxelFaceCentre({2, 3.5, 5.5}, {2, 3, 5}, {2, 4, 5}), {2, 3.5, 5.5});
+    expectNear(voxelFaceCentre({2, 4, 5 + 1.0 / 3}, {2, 3.5, 5.5}, {2, 4, 5 + 2.0 / 3}),
+               {2, 3.5, 5.5});
+    // Split in 4, the piece from the side's midpoint: a side along an axis from the centre,
+    // unequal to the other; not a face's half, so its centroid (a point of the face).
+    expectNear(voxelFaceCentre({2, 3.5, 5.5}, {2, 3.5, 5}, {2, 3.75, 5}),
+               Vec3d(6, 10.75, 15.5) / 3.0);
 }

@@ -152,10 +152,11 @@ main(int argc, char** argv)
         }
         std::size_t withinPatch = 0;
         for (const auto& pair : found) withinPatch += patchOf[pair.first] == patchOf[pair.second];
-        std::printf("%g voxels: checker %s; closeness: vertex->raw %.3f, raw->remeshed %.3f "
-                    "voxels; intersections (%zu within one patch): %s\n", r.voxels,
-                    report.ok() ? "ok" : report.summary().c_str(), c.vertexToRaw,
-                    c.rawToOutput, withinPatch, found.empty() ? "none" :
+        std::printf("%g voxels: checker %s; closeness: vertex->raw %.3f, face centre->remeshed "
+                    "%.3f (raw centroids %.3f) voxels; intersections (%zu within one patch): "
+                    "%s\n", r.voxels, report.ok() ? "ok" : report.summary().c_str(),
+                    c.vertexToRaw, c.faceCentreToOutput, c.rawToOutput, withinPatch,
+                    found.empty() ? "none" :
                     vdbi_test::describeIntersections(r.remeshed, found).c_str());
     }
     return 0;

@@ -89,10 +89,23 @@ struct Closeness
     /// Over every output vertex: distance to the raw patch of the same label pair (for a
     /// vertex on several patches, to the nearest of them).
     double vertexToRaw = 0.0;
-    /// Over every raw triangle's centroid (the voxel face centres, and fine faces near
-    /// repaired places): distance to the output patch of the same label pair.
+    /// Over every voxel face centre (of the coarse faces, and of the fine faces near repaired
+    /// places): distance to the output patch of the same label pair. The measure.
+    double faceCentreToOutput = 0.0;
+    /// The same over every raw triangle's centroid: stricter, since the centroids of the two
+    /// halves of a face lie a quarter of a diagonal off its centre, towards its corners.
     double rawToOutput = 0.0;
 };
+
+/// @brief The centre of the voxel face that raw triangle (a, b, c) is part of, in voxel units.
+/// @details A face is two triangles whose legs lie along the lattice axes (its centre is the
+/// midpoint of their shared diagonal), or, where a side is split, a fan from its centre, whose
+/// triangles have one side along an axis (the centre is the corner opposite). Any other
+/// triangle (the piece of a fan next to the midpoint of a side split in an even number):
+/// its centroid. With sides split in 2 that piece looks like a fine face's half: the point
+/// taken is then the centre of a quarter of the face.
+openvdb::Vec3d voxelFaceCentre(const openvdb::Vec3d& a, const openvdb::Vec3d& b,
+                               const openvdb::Vec3d& c);
 
 /// @brief Measures Closeness patch by patch, with points scaled by 1 / @a voxelSize per axis
 /// (anisotropic voxels count in voxels along each axis). Distances beyond @a radius voxels
