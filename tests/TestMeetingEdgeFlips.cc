@@ -61,6 +61,30 @@ TEST(TestMeetingEdgeFlips, testFlipGoesRound)
     EXPECT_EQ(mesh.points, ridgeUnderTriangle().points);
 }
 
+// The ridge's source has a small triangle on its crest, centroid (1, 1, 1): the flip to the
+// valley would leave it 2 / sqrt(6) = 0.82 from the patch. Under a limit of 0.9 from the
+// source the flip is made; under 0.5 it is not, and both pairs still meet.
+TEST(TestMeetingEdgeFlips, testFlipKeepsTheSourceCovered)
+{
+    const vdbi::InterfaceMesh source = vdbi_test::makeMesh(
+        {Vec3d(0.9, 0.9, 1), Vec3d(1.2, 0.9, 1), Vec3d(0.9, 1.2, 1), Vec3d(5, 5, 5),
+         Vec3d(6, 5, 5), Vec3d(5, 6, 5)},
+        {{1, 2, {Vec3I(0, 1, 2)}}, {3, 4, {Vec3I(3, 4, 5)}}});
+    vdbi::RawPatchDistance distance(source, Vec3d(1.0), 1.5);
+    const std::vector<std::uint8_t> movable = {0, 0, 1, 1, 0, 0, 0};
+    for (const double limit : {0.9, 0.5}) {
+        vdbi::InterfaceMesh mesh = ridgeUnderTriangle();
+        vdbi::TrianglePairs left;
+        const bool flipped = limit > 0.82;
+        EXPECT_EQ(vdbi::flipMeetingEdges(mesh, movable, 1.0, false, allPoints(mesh), &left,
+                                         &distance, limit),
+                  flipped ? 1u : 0u);
+        const vdbi::TrianglePairs expected =
+            flipped ? vdbi::TrianglePairs{} : vdbi::TrianglePairs{{0, 2}, {1, 2}};
+        EXPECT_EQ(left, expected) << "limit " << limit;
+    }
+}
+
 TEST(TestMeetingEdgeFlips, testNoDiagonalBetweenLockedPoints)
 {
     // Another patch on the same curves could make the edge 2-3 too.

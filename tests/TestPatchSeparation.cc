@@ -487,6 +487,33 @@ TEST_F(TestPatchSeparation, testMovesStayNearTheSource)
     }
 }
 
+// As above, under a limit of 0.35, with a small source triangle 0.3 above the centre: the
+// centre would stay within the limit of the flat source at z = -0.3, but leave that
+// triangle's centroid about 0.55 from the fan. No move that keeps it covered frees the pair.
+TEST_F(TestPatchSeparation, testMovesKeepTheSourceCovered)
+{
+    std::vector<Vec3d> points = hexagonPoints(Vec3d(0, 0, 0));
+    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
+                                 Vec3d(0.45, 0.15, 1.0)});
+    const vdbi::InterfaceMesh start =
+        makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    points.insert(points.end(), {Vec3d(-0.05, -0.05, 0.3), Vec3d(0.1, -0.05, 0.3),
+                                 Vec3d(-0.05, 0.1, 0.3)});
+    std::vector<Vec3I> fan = hexagonFan();
+    fan.emplace_back(10, 11, 12);
+    const vdbi::InterfaceMesh raw = makeMesh(points, {{1, 2, fan}, {3, 4, {Vec3I(7, 8, 9)}}});
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 1.0);
+    std::vector<std::uint8_t> movable(start.points.size(), 0);
+    movable[0] = 1;
+    vdbi::InterfaceMesh mesh = start;
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.source = &source;
+    settings.sourceLimit = 0.35;
+    EXPECT_EQ(vdbi::separatePatches(mesh, movable, settings), 1u);
+    EXPECT_EQ(intersectingPairs(mesh).size(), 1u);
+    EXPECT_EQ(mesh.points, start.points);
+}
+
 // The hexagon's centre lies 1.5 above its source, the flat hexagon: pulled down the way to
 // its nearest source point, by eighths, it stops at the first within 0.95 of it, 0.9375.
 TEST_F(TestPatchSeparation, testPullTowardsSource)

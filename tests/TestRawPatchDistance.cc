@@ -127,3 +127,40 @@ TEST_F(TestRawPatchDistance, testMatchesBruteForceOnRandomStaircase)
     EXPECT_GT(within, 200);
     EXPECT_LT(within, 1800);
 }
+
+// A change keeps the source covered if every centroid it passed within the limit of still is,
+// by the changed triangles or (asked only then) by another. Voxels 2 high: the square's
+// centroids (2/3, 1/3, 0) and (1/3, 2/3, 0), a triangle over it lifted in voxel units.
+TEST_F(TestRawPatchDistance, testKeepsCovered)
+{
+    const vdbi::InterfaceMesh raw = twoSquares();
+    vdbi::RawPatchDistance distance(raw, Vec3d(1, 1, 2), 1.5);
+    auto over = [](double z) {
+        return std::vector<vdbi::RawPatchDistance::Corners>{
+            {{Vec3d(-1, -1, z), Vec3d(3, -1, z), Vec3d(-1, 3, z)}}};
+    };
+    int asked = 0;
+    auto elsewhere = [&asked](bool answer) {
+        return [&asked, answer](const Vec3d&) {
+            ++asked;
+            return answer;
+        };
+    };
+    // Lifted from 0 to 0.5 voxel: still within 0.95.
+    EXPECT_TRUE(distance.keepsCovered(0, over(0.0), over(0.5), 0.95, elsewhere(false)));
+    EXPECT_EQ(asked, 0);
+    // To 1.2: both centroids lost, unless another triangle covers them.
+    EXPECT_FALSE(distance.keepsCovered(0, over(0.0), over(1.2), 0.95, elsewhere(false)));
+    EXPECT_EQ(asked, 1);
+    asked = 0;
+    EXPECT_TRUE(distance.keepsCovered(0, over(0.0), over(1.2), 0.95, elsewhere(true)));
+    EXPECT_EQ(asked, 2);
+    // From 1.0 to 1.2: not within the limit before either, so nothing to keep.
+    asked = 0;
+    EXPECT_TRUE(distance.keepsCovered(0, over(1.0), over(1.2), 0.95, elsewhere(false)));
+    EXPECT_EQ(asked, 0);
+    // Patch 1, the square at x = 0: its centroid (0, 1/3, 1/6) was 1/6 voxel under the
+    // triangle; lifted to 1.2, the change loses it under a limit of 0.4.
+    EXPECT_FALSE(distance.keepsCovered(1, over(0.0), over(1.2), 0.4, elsewhere(false)));
+    EXPECT_EQ(asked, 1);
+}

@@ -47,8 +47,9 @@ class EdgeFlipper
 {
 public:
     EdgeFlipper(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
-                bool threaded)
-        : mMesh(mesh), mMovable(movable), mGrid(mesh, cellSize, 0.0, threaded)
+                bool threaded, RawPatchDistance* source, double sourceLimit)
+        : mMesh(mesh), mMovable(movable), mSource(source), mSourceLimit(sourceLimit)
+        , mGrid(mesh, cellSize, 0.0, threaded)
         , mPatchOf(trianglePatches(mesh)), mChanged(mesh.points.size(), 0)
     {
         trianglesAroundPoints(mesh, mFirst, mAround);
@@ -147,7 +148,35 @@ private:
             after += int(trianglesMeet(points, flip.newF, w)) + int(trianglesMeet(points, flip.newG, w));
         }
         flip.gain = before - after;
-        return true;
+        return flip.gain <= 0 || keepsSourceCovered(flip);
+    }
+
+    /// Does @a flip keep the centroids of the source triangles near it within the limit?
+    bool keepsSourceCovered(const Flip& flip)
+    {
+        if (!mSource) return true;
+        const PointArray& points = mMesh.points;
+        const std::vector<RawPatchDistance::Corners> before = {
+            mSource->corners(points, mMesh.triangles[flip.f]),
+            mSource->corners(points, mMesh.triangles[flip.g])},
+            now = {mSource->corners(points, flip.newF), mSource->corners(points, flip.newG)};
+        const std::uint32_t patch = mPatchOf[flip.f];
+        const double limit = mSourceLimit;
+        auto coveredElsewhere = [&](const Vec3d& q) {
+            const Vec3d low = mSource->world(q - Vec3d(limit)),
+                        high = mSource->world(q + Vec3d(limit));
+            mCandidates.assign(mFlipped.begin(), mFlipped.end());
+            mGrid.forEachInBox(low, high, [&](std::uint32_t x) { mCandidates.push_back(x); });
+            for (const std::uint32_t x : mCandidates) {
+                if (x != flip.f && x != flip.g && mPatchOf[x] == patch
+                    && RawPatchDistance::isWithin(q, mSource->corners(points, mMesh.triangles[x]),
+                                                  limit)) {
+                    return true;
+                }
+            }
+            return false;
+        };
+        return mSource->keepsCovered(patch, before, now, limit, coveredElsewhere);
     }
 
     /// @brief Every triangle that can meet one with the corners @a corners into mCandidates:
@@ -201,6 +230,8 @@ private:
 
     InterfaceMesh& mMesh;
     const std::vector<std::uint8_t>& mMovable;
+    RawPatchDistance* const mSource;
+    const double mSourceLimit;
     const CandidateGrid mGrid;
     std::vector<std::uint32_t> mPatchOf;
     /// Triangles around every point (as before any flip): mAround[mFirst[v] .. mFirst[v + 1]).
@@ -216,9 +247,10 @@ private:
 std::size_t
 flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable, double cellSize,
                  bool threaded, const std::vector<std::uint32_t>& suspects,
-                 TrianglePairs* left)
+                 TrianglePairs* left, RawPatchDistance* source, double sourceLimit)
 {
-    return EdgeFlipper(mesh, movable, cellSize, threaded).run(suspects, left);
+    return EdgeFlipper(mesh, movable, cellSize, threaded, source, sourceLimit)
+        .run(suspects, left);
 }
 
 } // namespace vdbi

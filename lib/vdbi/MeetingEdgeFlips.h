@@ -8,6 +8,7 @@
 
 #include <vdbi/CandidateGrid.h>
 #include <vdbi/InterfaceMesh.h>
+#include <vdbi/RawPatchDistance.h>
 
 #include <cstdint>
 #include <vector>
@@ -37,11 +38,16 @@ namespace vdbi {
 ///                  them: the triangles around them and those they meet are looked at, not
 ///                  the whole mesh (every point for a search of the whole mesh)
 /// @param left      if given, set to the pairs of triangles that still meet, ascending
+/// @param source    if given, the surfaces the patches were made from (same indices): no flip
+///                  takes a patch farther than @a sourceLimit voxels from a centroid of their
+///                  triangles that it passed within that (a flip across a thin tip would
+///                  cut the tip off)
 /// @return the number of edges flipped
 std::size_t flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                              double cellSize, bool threaded,
                              const std::vector<std::uint32_t>& suspects,
-                             TrianglePairs* left = nullptr);
+                             TrianglePairs* left = nullptr, RawPatchDistance* source = nullptr,
+                             double sourceLimit = 0.0);
 
 } // namespace vdbi
 

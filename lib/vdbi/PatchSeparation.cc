@@ -276,8 +276,10 @@ private:
             turned = !(after.dot(before) > 0.0)
                 && !(before.dot(normal) <= 0.0 && after.dot(normal) > 0.0);
         }
+        mMovedFrom.assign(1, {v, old});
         if (turned || (limit < mMeetingHere.size() && !freesAPair())
-            || meetingsAround(v) > limit) {
+            || meetingsAround(v) > limit
+            || !keepsSourceCovered(mAround.data() + mStart[v], mAround.data() + mStart[v + 1])) {
             mMesh.points[v] = old;
             return false;
         }
@@ -395,7 +397,13 @@ private:
             for (std::size_t i = 0; i < mGroupTriangles.size() && !turned; ++i) {
                 turned = !(faceNormal(mGroupTriangles[i]).dot(mBefore[i]) > 0.0);
             }
-            if (!turned && freesAPair() && meetingsAmong(first, last, nullptr) < meetings) {
+            mMovedFrom.clear();
+            for (std::size_t i = 0; i < mGroup.size(); ++i) {
+                mMovedFrom.emplace_back(mGroup[i], mGroupPoints[i]);
+            }
+            if (!turned && freesAPair() && meetingsAmong(first, last, nullptr) < meetings
+                && keepsSourceCovered(mGroupTriangles.data(),
+                                      mGroupTriangles.data() + mGroupTriangles.size())) {
                 return true;
             }
             for (std::size_t i = 0; i < mGroup.size(); ++i) mMesh.points[mGroup[i]] = mGroupPoints[i];
@@ -436,6 +444,57 @@ private:
         const double allowed = std::max(mSettings.sourceLimit, atStart);
         if (atStart + moved / mSettings.sourceUnit <= allowed) return true;
         return mSettings.source->farthest(p, mPatchesHere).distance <= allowed;
+    }
+
+    /// @brief Do the triangles [@a first, @a last), changed by a move of the points in
+    /// mMovedFrom (with their positions before), still pass within sourceLimit of every
+    /// centroid of their patches' source triangles that they passed within it before, or
+    /// does another triangle of the patch?
+    /// @details A move that keeps the point itself close to the faces (keepsClose()) may
+    /// still take the triangles around it off the faces of a thin tip, as a flip across the
+    /// tip does (MeetingEdgeFlips.h).
+    bool keepsSourceCovered(const std::uint32_t* first, const std::uint32_t* last)
+    {
+        RawPatchDistance* source = mSettings.source;
+        if (!source) return true;
+        mPatchesMoved.clear();
+        for (const std::uint32_t* i = first; i != last; ++i) {
+            mPatchesMoved.push_back(mPatchOf[*i]);
+        }
+        std::sort(mPatchesMoved.begin(), mPatchesMoved.end());
+        mPatchesMoved.erase(std::unique(mPatchesMoved.begin(), mPatchesMoved.end()),
+                            mPatchesMoved.end());
+        const double limit = mSettings.sourceLimit;
+        for (const std::uint32_t patch : mPatchesMoved) {
+            mNow.clear();
+            mThen.clear();
+            for (const std::uint32_t* i = first; i != last; ++i) {
+                if (mPatchOf[*i] != patch) continue;
+                const openvdb::Vec3I& t = mMesh.triangles[*i];
+                mNow.push_back(source->corners(mMesh.points, t));
+                RawPatchDistance::Corners& then = mThen.emplace_back(mNow.back());
+                for (int k = 0; k < 3; ++k) {
+                    for (const auto& [w, q] : mMovedFrom) {
+                        if (w == t[k]) then.c[k] = source->scaled(q);
+                    }
+                }
+            }
+            // Every triangle within the limit of q has its box (the grid's, widened by
+            // maxMove) in the cells of q's box.
+            auto coveredElsewhere = [&](const Vec3d& q) {
+                bool covered = false;
+                mGrid.forEachInBox(source->world(q - Vec3d(limit)),
+                                   source->world(q + Vec3d(limit)), [&](std::uint32_t g) {
+                    covered = covered
+                        || (mPatchOf[g] == patch
+                            && RawPatchDistance::isWithin(
+                                q, source->corners(mMesh.points, mMesh.triangles[g]), limit));
+                });
+                return covered;
+            };
+            if (!source->keepsCovered(patch, mThen, mNow, limit, coveredElsewhere)) return false;
+        }
+        return true;
     }
 
     /// mPatchesHere: the patches of the triangles around @a v, ascending.
@@ -498,6 +557,11 @@ private:
     /// patches.
     std::vector<double> mStartDistance;
     std::vector<std::uint32_t> mPatchesHere;
+    /// keepsSourceCovered()'s: the points moved and where they were; the changed triangles
+    /// of one patch now and before, in voxel units; the patches of the changed triangles.
+    std::vector<std::pair<std::uint32_t, Vec3d>> mMovedFrom;
+    std::vector<std::uint32_t> mPatchesMoved;
+    std::vector<RawPatchDistance::Corners> mNow, mThen;
 };
 
 } // namespace

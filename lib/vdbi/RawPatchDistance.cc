@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vdbi {
 
@@ -29,6 +30,22 @@ RawPatchDistance::scaled(const Vec3d& p) const
 }
 
 
+Vec3d
+RawPatchDistance::world(const Vec3d& q) const
+{
+    return Vec3d(q[0] * mVoxel[0], q[1] * mVoxel[1], q[2] * mVoxel[2]);
+}
+
+
+Vec3d
+RawPatchDistance::centroid(std::uint32_t triangle) const
+{
+    const openvdb::Vec3I& tri = mRaw.triangles[triangle];
+    return (scaled(mRaw.points[tri[0]]) + scaled(mRaw.points[tri[1]])
+            + scaled(mRaw.points[tri[2]])) / 3.0;
+}
+
+
 const RawPatchDistance::Cells&
 RawPatchDistance::cellsOf(std::uint32_t patch)
 {
@@ -40,11 +57,11 @@ RawPatchDistance::cellsOf(std::uint32_t patch)
         const openvdb::Vec3I& tri = mRaw.triangles[t];
         const Vec3d a = scaled(mRaw.points[tri[0]]), b = scaled(mRaw.points[tri[1]]),
                     c = scaled(mRaw.points[tri[2]]);
-        const Vec3d centroid = (a + b + c) / 3.0;
-        cells.reach = std::max({cells.reach, (a - centroid).length(),
-                                (b - centroid).length(), (c - centroid).length()});
-        const openvdb::Vec3i cell(int(std::floor(centroid[0])), int(std::floor(centroid[1])),
-                                  int(std::floor(centroid[2])));
+        const Vec3d centre = (a + b + c) / 3.0;
+        cells.reach = std::max({cells.reach, (a - centre).length(), (b - centre).length(),
+                                (c - centre).length()});
+        const openvdb::Vec3i cell(int(std::floor(centre[0])), int(std::floor(centre[1])),
+                                  int(std::floor(centre[2])));
         cells.entries.emplace_back(cellKey(cell), std::uint32_t(t));
     }
     // Every entry differs (one per triangle): the order is the same on any number of threads.
@@ -93,6 +110,74 @@ RawPatchDistance::nearest(const Vec3d& p, std::uint32_t patch)
     if (best == q) hit.point = p;
     hit.distance = std::sqrt(best2);
     return hit;
+}
+
+
+RawPatchDistance::Corners
+RawPatchDistance::corners(const PointArray& points, const openvdb::Vec3I& t) const
+{
+    return {{scaled(points[t[0]]), scaled(points[t[1]]), scaled(points[t[2]])}};
+}
+
+
+bool
+RawPatchDistance::isWithin(const Vec3d& q, const Corners& t, double limit)
+{
+    Vec3d bary;
+    return (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).lengthSqr()
+        <= limit * limit;
+}
+
+
+bool
+RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& before,
+                               const std::vector<Corners>& now, double limit,
+                               const std::function<bool(const Vec3d&)>& coveredElsewhere)
+{
+    auto within = [limit](const Vec3d& q, const std::vector<Corners>& triangles) {
+        return std::any_of(triangles.begin(), triangles.end(),
+                           [&](const Corners& t) { return isWithin(q, t, limit); });
+    };
+    // Only centroids within the limit of a changed triangle, before or now, can have lost it.
+    Vec3d low(std::numeric_limits<double>::max()), high(-low);
+    for (const std::vector<Corners>* triangles : {&before, &now}) {
+        for (const Corners& t : *triangles) {
+            for (const Vec3d& p : t.c) {
+                low = openvdb::math::minComponent(low, p);
+                high = openvdb::math::maxComponent(high, p);
+            }
+        }
+    }
+    mCentroids.clear();
+    centroidsIn(patch, low - Vec3d(limit), high + Vec3d(limit), mCentroids);
+    for (const Vec3d& q : mCentroids) {
+        if (!within(q, now) && within(q, before) && !coveredElsewhere(q)) return false;
+    }
+    return true;
+}
+
+
+void
+RawPatchDistance::centroidsIn(std::uint32_t patch, const Vec3d& low, const Vec3d& high,
+                              std::vector<Vec3d>& centroids)
+{
+    const Cells& cells = cellsOf(patch);
+    for (int x = int(std::floor(low[0])); x <= int(std::floor(high[0])); ++x) {
+        for (int y = int(std::floor(low[1])); y <= int(std::floor(high[1])); ++y) {
+            for (int z = int(std::floor(low[2])); z <= int(std::floor(high[2])); ++z) {
+                const std::uint64_t key = cellKey(openvdb::Vec3i(x, y, z));
+                auto it = std::lower_bound(cells.entries.begin(), cells.entries.end(),
+                                           std::make_pair(key, std::uint32_t(0)));
+                for (; it != cells.entries.end() && it->first == key; ++it) {
+                    const Vec3d c = centroid(it->second);
+                    if (c[0] >= low[0] && c[1] >= low[1] && c[2] >= low[2] && c[0] <= high[0]
+                        && c[1] <= high[1] && c[2] <= high[2]) {
+                        centroids.push_back(c);
+                    }
+                }
+            }
+        }
+    }
 }
 
 

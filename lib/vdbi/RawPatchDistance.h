@@ -11,6 +11,7 @@
 #include <openvdb/Types.h>
 
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -45,6 +46,31 @@ public:
     /// nearest() on the patch of @a patches farthest from @a p (a hit at p for none).
     Hit farthest(const openvdb::Vec3d& p, const std::vector<std::uint32_t>& patches);
 
+    /// A triangle by its corners in voxel units (scaled()).
+    struct Corners
+    {
+        openvdb::Vec3d c[3];
+    };
+    /// Triangle @a t of @a points (world space) in voxel units.
+    Corners corners(const PointArray& points, const openvdb::Vec3I& t) const;
+    /// Is @a q within @a limit of triangle @a t (both in voxel units)?
+    static bool isWithin(const openvdb::Vec3d& q, const Corners& t, double limit);
+
+    /// @brief Does a change of some triangles of patch @a patch keep the centroids of the
+    /// patch's source triangles close? A centroid within @a limit voxels of one of @a before
+    /// (the changed triangles as they were) must be within it of one of @a now (as they are),
+    /// or @a coveredElsewhere(centroid) must find another triangle of the patch within it.
+    /// @details The centroid measure is stricter than the voxel face centres the output
+    /// promises: the halves of a face have their centroids towards its corners.
+    bool keepsCovered(std::uint32_t patch, const std::vector<Corners>& before,
+                      const std::vector<Corners>& now, double limit,
+                      const std::function<bool(const openvdb::Vec3d&)>& coveredElsewhere);
+
+    /// World point @a p in voxel units along each axis.
+    openvdb::Vec3d scaled(const openvdb::Vec3d& p) const;
+    /// Point @a q in voxel units back in world space.
+    openvdb::Vec3d world(const openvdb::Vec3d& q) const;
+
 private:
     /// A patch's triangles by cell: ascending keys, and the triangle of each.
     struct Cells
@@ -55,13 +81,17 @@ private:
     };
 
     const Cells& cellsOf(std::uint32_t patch);
-    openvdb::Vec3d scaled(const openvdb::Vec3d& p) const;
+    openvdb::Vec3d centroid(std::uint32_t triangle) const;
+    /// Appends the centroids of patch @a patch's triangles in the box [@a low, @a high].
+    void centroidsIn(std::uint32_t patch, const openvdb::Vec3d& low, const openvdb::Vec3d& high,
+                     std::vector<openvdb::Vec3d>& centroids);
 
     const InterfaceMesh& mRaw;
     const openvdb::Vec3d mVoxel, mInverse;
     const double mRadius;
     const bool mThreaded;
     std::vector<Cells> mCells;
+    std::vector<openvdb::Vec3d> mCentroids;   ///< keepsCovered()'s
 };
 
 } // namespace vdbi
