@@ -244,6 +244,41 @@ TEST_F(TestPatchSeparation, testEveryMeetingPairFoundOnce)
     }
 }
 
+namespace {
+
+/// A hexagon of six triangles around point 0 at @a centre, the others in the plane z = 0.
+std::vector<Vec3d>
+hexagonPoints(const Vec3d& centre)
+{
+    std::vector<Vec3d> points = {centre};
+    for (int k = 0; k < 6; ++k) {
+        const double angle = k * M_PI / 3.0;
+        points.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+    }
+    return points;
+}
+
+std::vector<Vec3I>
+hexagonFan()
+{
+    std::vector<Vec3I> fan;
+    for (std::uint32_t k = 0; k < 6; ++k) fan.emplace_back(0, 1 + k, 1 + (k + 1) % 6);
+    return fan;
+}
+
+/// Patch (1, 2): the flat hexagon fan; patch (3, 4): the spike (7, 8, 9) through its first
+/// triangle near point 0, from 0.22 below it.
+vdbi::InterfaceMesh
+spikeThroughHexagon()
+{
+    std::vector<Vec3d> points = hexagonPoints(Vec3d(0, 0, 0));
+    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
+                                 Vec3d(0.45, 0.15, 1.0)});
+    return makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+}
+
+} // namespace
+
 // Patch (1, 2) is a flat hexagonal fan around its only free point 0, at the mean of its
 // ring; a locked spike of patch (3, 4), which shares no label with it (no push), pierces the
 // first triangle near point 0 and stands up from 0.22 below it. Neither the mean of the ring nor one step
@@ -251,21 +286,12 @@ TEST_F(TestPatchSeparation, testEveryMeetingPairFoundOnce)
 // separation tried. Three steps down, a shallow cone passes under the spike's lower corner.
 TEST_F(TestPatchSeparation, testSearchAlongNormalFreesDeepCrossing)
 {
-    std::vector<Vec3d> points = {Vec3d(0, 0, 0)};
-    for (int k = 0; k < 6; ++k) {
-        const double angle = k * M_PI / 3.0;
-        points.emplace_back(std::cos(angle), std::sin(angle), 0.0);
-    }
-    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
-                                 Vec3d(0.45, 0.15, 1.0)});
-    std::vector<Vec3I> fan;
-    for (std::uint32_t k = 0; k < 6; ++k) fan.emplace_back(0, 1 + k, 1 + (k + 1) % 6);
-    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, fan}, {3, 4, {Vec3I(7, 8, 9)}}});
+    vdbi::InterfaceMesh mesh = spikeThroughHexagon();
     ASSERT_EQ(intersectingPairs(mesh),
               (std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 6}}));
 
     const vdbi::InterfaceMesh before = mesh;
-    std::vector<std::uint8_t> movable(points.size(), 0);
+    std::vector<std::uint8_t> movable(mesh.points.size(), 0);
     movable[0] = 1;
     EXPECT_EQ(vdbi::separatePatches(mesh, movable, unitSettings()), 0u);
     EXPECT_TRUE(intersectingPairs(mesh).empty());
@@ -436,43 +462,15 @@ TEST_F(TestPatchSeparation, testKnownPairsReplaceTheSearch)
               std::vector<Vec3d>(mesh.points.begin(), mesh.points.end()));
 }
 
-namespace {
-
-/// A hexagon of six triangles around point 0 in the plane z = 0 as patch (1, 2), and as
-/// patch (3, 4) the triangle (7, 8, 9) if @a withSpike: the raw patches of the tests below.
-std::vector<Vec3d>
-hexagonPoints(const Vec3d& centre)
-{
-    std::vector<Vec3d> points = {centre};
-    for (int k = 0; k < 6; ++k) {
-        const double angle = k * M_PI / 3.0;
-        points.emplace_back(std::cos(angle), std::sin(angle), 0.0);
-    }
-    return points;
-}
-
-std::vector<Vec3I>
-hexagonFan()
-{
-    std::vector<Vec3I> fan;
-    for (std::uint32_t k = 0; k < 6; ++k) fan.emplace_back(0, 1 + k, 1 + (k + 1) % 6);
-    return fan;
-}
-
-} // namespace
 
 // testSearchAlongNormalFreesDeepCrossing with the flat hexagon as the fan's source: the move
 // to z = -0.3 that frees the spike is made under a limit of 0.35 voxel from the source, not
 // under 0.25, where no move frees the pair and the centre stays.
 TEST_F(TestPatchSeparation, testMovesStayNearTheSource)
 {
-    std::vector<Vec3d> points = hexagonPoints(Vec3d(0, 0, 0));
-    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
-                                 Vec3d(0.45, 0.15, 1.0)});
-    const vdbi::InterfaceMesh raw =
-        makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    const vdbi::InterfaceMesh raw = spikeThroughHexagon();
     vdbi::RawPatchDistance source(raw, Vec3d(1.0), 1.0);
-    std::vector<std::uint8_t> movable(points.size(), 0);
+    std::vector<std::uint8_t> movable(raw.points.size(), 0);
     movable[0] = 1;
     for (const double limit : {0.35, 0.25}) {
         vdbi::InterfaceMesh mesh = raw;
@@ -492,11 +490,8 @@ TEST_F(TestPatchSeparation, testMovesStayNearTheSource)
 // triangle's centroid about 0.55 from the fan. No move that keeps it covered frees the pair.
 TEST_F(TestPatchSeparation, testMovesKeepTheSourceCovered)
 {
-    std::vector<Vec3d> points = hexagonPoints(Vec3d(0, 0, 0));
-    points.insert(points.end(), {Vec3d(0.1, 0.1, -0.22), Vec3d(0.4, 0.35, 1.0),
-                                 Vec3d(0.45, 0.15, 1.0)});
-    const vdbi::InterfaceMesh start =
-        makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    const vdbi::InterfaceMesh start = spikeThroughHexagon();
+    std::vector<Vec3d> points(start.points.begin(), start.points.end());
     points.insert(points.end(), {Vec3d(-0.05, -0.05, 0.3), Vec3d(0.1, -0.05, 0.3),
                                  Vec3d(-0.05, 0.1, 0.3)});
     std::vector<Vec3I> fan = hexagonFan();
