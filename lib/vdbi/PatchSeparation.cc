@@ -38,17 +38,26 @@ latticeDirections()
 
 using Pairs = TrianglePairs;
 
-/// @a patches: those of the triangles around point @a v, ascending (@a first and @a around:
-/// trianglesAroundPoints(), @a patchOf: trianglePatches()).
+/// @a patches: those of the triangles [@a first, @a last), ascending (@a patchOf:
+/// trianglePatches()).
+void
+patchesOf(const std::uint32_t* first, const std::uint32_t* last,
+          const std::vector<std::uint32_t>& patchOf, std::vector<std::uint32_t>& patches)
+{
+    patches.clear();
+    for (const std::uint32_t* i = first; i != last; ++i) patches.push_back(patchOf[*i]);
+    std::sort(patches.begin(), patches.end());
+    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+}
+
+/// patchesOf() the triangles around point @a v (@a first and @a around:
+/// trianglesAroundPoints()).
 void
 patchesAround(std::uint32_t v, const std::vector<std::uint32_t>& first,
               const std::vector<std::uint32_t>& around, const std::vector<std::uint32_t>& patchOf,
               std::vector<std::uint32_t>& patches)
 {
-    patches.clear();
-    for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) patches.push_back(patchOf[around[i]]);
-    std::sort(patches.begin(), patches.end());
-    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+    patchesOf(around.data() + first[v], around.data() + first[v + 1], patchOf, patches);
 }
 
 /// @brief The state of separatePatches(): the triangles around every point, the candidate
@@ -457,13 +466,7 @@ private:
     {
         RawPatchDistance* source = mSettings.source;
         if (!source) return true;
-        mPatchesMoved.clear();
-        for (const std::uint32_t* i = first; i != last; ++i) {
-            mPatchesMoved.push_back(mPatchOf[*i]);
-        }
-        std::sort(mPatchesMoved.begin(), mPatchesMoved.end());
-        mPatchesMoved.erase(std::unique(mPatchesMoved.begin(), mPatchesMoved.end()),
-                            mPatchesMoved.end());
+        patchesOf(first, last, mPatchOf, mPatchesMoved);
         const double limit = mSettings.sourceLimit;
         for (const std::uint32_t patch : mPatchesMoved) {
             mNow.clear();
