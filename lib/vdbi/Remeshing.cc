@@ -22,6 +22,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -128,7 +130,16 @@ voxelSizeFromKeys(const InterfaceMesh& mesh)
     }
     const double smallest = std::min({best[0], best[1], best[2]});
     if (!std::isfinite(smallest)) return Vec3d(0.0);
-    for (int k = 0; k < 3; ++k) if (!std::isfinite(best[k])) best[k] = smallest;
+    for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(best[k])) best[k] = smallest;
+        // The differences of world points carry rounding (4.1 - 4.0 is not 0.1): the size to
+        // 12 significant digits is the grid's own for any size written in decimal. An ulp
+        // off, remeshing ties break the other way and the result is not the one the same mesh
+        // gives with the grid's voxel size.
+        char text[32];
+        std::snprintf(text, sizeof(text), "%.12g", best[k]);
+        best[k] = std::strtod(text, nullptr);
+    }
     return best;
 }
 

@@ -23,8 +23,9 @@ struct RemeshOptions
     int iterations = 5;
     /// World size of one voxel along x, y and z (an axis-aligned transform): the unit of the
     /// smoothing bounds, so curves and reference surfaces stay within a fraction of a voxel of
-    /// the staircase along every axis. Zeros: derived from the mesh's point keys, or the edge
-    /// length when there are no keys.
+    /// the staircase along every axis. Zeros: derived from the mesh's point keys (to 12
+    /// significant digits, so a size written in decimal comes out as the grid's own and the
+    /// result is the same as with it), or the edge length when there are no keys.
     openvdb::Vec3d voxelSize = openvdb::Vec3d(0.0);
     /// Patches in parallel with TBB; the result is the same either way.
     bool threaded = true;
