@@ -202,16 +202,32 @@ IsotropicRemesher::moveOffChords()
             flat = flat || hasNoArea(t.a, t.b, t.c);
         }
         if (!flat) continue;
-        const Point mean = neighbourMean(v);
-        bool fine = true;
-        for (const HalfedgeHandle h : mMesh.voh_range(v)) {
-            if (!mMesh.face_handle(h).is_valid()) continue;
-            const Point& b = mMesh.point(mMesh.to_vertex_handle(h));
-            const Point& c = mMesh.point(mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h)));
-            fine = fine && !hasNoArea(mean, b, c)
-                && (((b - mean) % (c - mean)) | refNormal(v)) > 0.0;
+        const Point p = mMesh.point(v), mean = neighbourMean(v);
+        auto fine = [&](const Point& q) {
+            for (const HalfedgeHandle h : mMesh.voh_range(v)) {
+                if (!mMesh.face_handle(h).is_valid()) continue;
+                const Point& b = mMesh.point(mMesh.to_vertex_handle(h));
+                const Point& c =
+                    mMesh.point(mMesh.to_vertex_handle(mMesh.next_halfedge_handle(h)));
+                // A triangle turned over already may stay so (the rounds unfold it); one
+                // without area must come to face the right way.
+                const bool turned =
+                    !hasNoArea(p, b, c) && (((b - p) % (c - p)) | refNormal(v)) < 0.0;
+                if (hasNoArea(q, b, c)
+                    || (!turned && (((b - q) % (c - q)) | refNormal(v)) <= 0.0)) {
+                    return false;
+                }
+            }
+            return true;
+        };
+        // Part of the way where the whole way turns a triangle of a crumpled fan over.
+        for (const double step : {1.0, 0.5, 0.25, 0.125}) {
+            const Point q = p + (mean - p) * step;
+            if (fine(q)) {
+                mMesh.set_point(v, q);
+                break;
+            }
         }
-        if (fine) mMesh.set_point(v, mean);
     }
 }
 
