@@ -20,10 +20,9 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -137,8 +136,9 @@ voxelSizeFromKeys(const InterfaceMesh& mesh)
         // off, remeshing ties break the other way and the result is not the one the same mesh
         // gives with the grid's voxel size.
         char text[32];
-        std::snprintf(text, sizeof(text), "%.12g", best[k]);
-        best[k] = std::strtod(text, nullptr);
+        const std::to_chars_result end = std::to_chars(
+            text, text + sizeof(text), best[k], std::chars_format::general, 12);
+        std::from_chars(text, end.ptr, best[k]);
     }
     return best;
 }
