@@ -246,14 +246,7 @@ checkRemeshing(const std::string& name, const vdbi::InterfaceMesh& raw, double t
     expectSameTopology(raw, out, name);
     // Every triangle has area: one with a corner on the line through the other two (a
     // split's midpoint, flipped into a triangle with the ends of its edge) has no normal.
-    std::size_t withoutArea = 0;
-    for (const openvdb::Vec3I& t : out.triangles) {
-        const Vec3d &a = out.points[t[0]], &b = out.points[t[1]], &c = out.points[t[2]];
-        const double longest2 =
-            std::max({(b - a).lengthSqr(), (c - b).lengthSqr(), (a - c).lengthSqr()});
-        withoutArea += (b - a).cross(c - a).length() <= 1e-10 * longest2;
-    }
-    EXPECT_EQ(withoutArea, 0u) << name;
+    EXPECT_EQ(vdbi_test::countTrianglesWithoutArea(out), 0u) << name;
 
     const auto found = vdbi_test::findSelfIntersections(out, target);
     const vdbi_test::Closeness c = vdbi_test::measureCloseness(raw, out, voxel);

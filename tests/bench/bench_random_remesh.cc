@@ -16,6 +16,7 @@
 
 #include "support/MeshChecker.h"
 #include "support/MeshIntersections.h"
+#include "support/MeshQuality.h"
 #include "support/RandomVolumes.h"
 #include "support/RawExtraction.h"
 
@@ -43,10 +44,11 @@ struct Tally
                 threw = 0;
 };
 
-/// What @a out breaks of the promises, "" if nothing.
+/// What @a out (remeshed to @a target, world units) breaks of the promises, "" if nothing.
 std::string
 brokenPromises(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
-               const vdbi_test::MeshReport& before, double target, Tally& tally)
+               const vdbi_test::MeshReport& before, double target,
+               const openvdb::Vec3d& voxel, Tally& tally)
 {
     std::string what;
     const vdbi_test::MeshReport after = vdbi_test::checkMesh(out, false);
@@ -65,13 +67,7 @@ brokenPromises(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
         ++tally.topology;
         what += " topology";
     }
-    std::size_t withoutArea = 0;
-    for (const openvdb::Vec3I& t : out.triangles) {
-        const openvdb::Vec3d &a = out.points[t[0]], &b = out.points[t[1]], &c = out.points[t[2]];
-        const double longest2 =
-            std::max({(b - a).lengthSqr(), (c - b).lengthSqr(), (a - c).lengthSqr()});
-        withoutArea += (b - a).cross(c - a).length() <= 1e-10 * longest2;
-    }
+    const std::size_t withoutArea = vdbi_test::countTrianglesWithoutArea(out);
     if (withoutArea > 0) {
         ++tally.area;
         what += " " + std::to_string(withoutArea) + " without area";
@@ -81,7 +77,7 @@ brokenPromises(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
         ++tally.crossings;
         what += " " + std::to_string(found.size()) + " crossing pairs";
     }
-    const vdbi_test::Closeness c = vdbi_test::measureCloseness(raw, out, openvdb::Vec3d(1.0));
+    const vdbi_test::Closeness c = vdbi_test::measureCloseness(raw, out, voxel);
     if (c.vertexToRaw > 1.0 || c.faceCentreToOutput > 1.0) {
         ++tally.closeness;
         char text[80];
@@ -154,10 +150,10 @@ main(int argc, char** argv)
                 std::string what;
                 try {
                     vdbi::RemeshOptions options;
-                    options.edgeLength = target;
                     options.voxelSize = grid->voxelSize();
+                    options.edgeLength = target * options.voxelSize[0];
                     what = brokenPromises(raw, vdbi::remeshPatches(raw, options), before,
-                                          target, tally);
+                                          options.edgeLength, options.voxelSize, tally);
                 } catch (const std::exception& e) {
                     ++tally.threw;
                     what = std::string(" threw: ") + e.what();

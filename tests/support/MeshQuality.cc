@@ -122,4 +122,18 @@ measureMeshQuality(const vdbi::InterfaceMesh& mesh, double target)
     return q;
 }
 
+std::size_t
+countTrianglesWithoutArea(const vdbi::InterfaceMesh& mesh)
+{
+    std::size_t count = 0;
+    for (const openvdb::Vec3I& t : mesh.triangles) {
+        const openvdb::Vec3d &a = mesh.points[t[0]], &b = mesh.points[t[1]],
+                             &c = mesh.points[t[2]];
+        const double longest2 =
+            std::max({(b - a).lengthSqr(), (c - b).lengthSqr(), (a - c).lengthSqr()});
+        count += (b - a).cross(c - a).length() <= 1e-10 * longest2;
+    }
+    return count;
+}
+
 } // namespace vdbi_test

@@ -35,4 +35,8 @@ struct MeshQuality
 /// @brief Measures every triangle and every (undirected) edge of @a mesh.
 MeshQuality measureMeshQuality(const vdbi::InterfaceMesh& mesh, double target);
 
+/// @brief How many triangles of @a mesh have no area: twice the area at most 1e-10 times the
+/// longest edge squared (a corner on the line through the other two has no normal).
+std::size_t countTrianglesWithoutArea(const vdbi::InterfaceMesh& mesh);
+
 } // namespace vdbi_test
