@@ -5,9 +5,8 @@
 #include <vdbi/Interruption.h>
 #include <vdbi/ParallelRanges.h>
 
-#include <openvdb/tools/Prune.h>
-
 #include <tbb/parallel_sort.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <memory>
@@ -157,9 +156,8 @@ dropUnchanged(LeafT& leaf, CoarseAccessor& coarse, int s)
 
 /// @brief Runs the passes into @a fine (active voxels: the labels that differ from the
 /// coarse ones in @a coarse), one leaf at a time.
-/// @details The leaves the claims touch are listed, sorted and made in parallel, then
-/// added to the tree in one thread (its nodes are not thread-safe). Then each leaf, in
-/// parallel, takes all passes' claims on it in pass order and drops what equals the coarse
+/// @details The leaves the claims touch are listed and sorted. Then each leaf, in parallel,
+/// is made, takes all passes' claims on it in pass order and drops what equals the coarse
 /// label, while its values are in cache: every leaf is written by one thread, so no tree per
 /// thread to merge, and the result does not depend on the split.
 void
@@ -205,28 +203,16 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
     firstTouch.push_back(touches.size());
     const std::size_t leafCount = firstTouch.size() - 1;
 
-    // Every leaf is new (the tree starts empty): made in parallel, as making one is the
-    // first touch of its memory, then added in one thread.
+    // Every leaf is new (the tree starts empty). The thread that writes a leaf makes it (the
+    // first touch of its memory) and keeps it only if a voxel stays active; the leaves kept
+    // are added in one thread (the tree's nodes are not thread-safe), so no prune is needed.
     std::vector<std::unique_ptr<LeafT>> made(leafCount);
-    forEachRange(leafCount, 64, options.threaded, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t l = begin; l < end; ++l) {
-            made[l] = std::make_unique<LeafT>(touches[firstTouch[l]].first, fine.background());
-        }
-    });
-    std::vector<LeafT*> leaves(leafCount);
-    {
-        openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
-        for (std::size_t l = 0; l < leafCount; ++l) {
-            leaves[l] = made[l].get();
-            acc.addLeaf(made[l].release()); // the tree owns it now
-        }
-    }
-
     InterruptFlag interrupt(options.interrupter);
     forEachRange(leafCount, 64, options.threaded, [&](std::size_t begin, std::size_t end) {
         if (interrupt.poll()) return;
         openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> coarseAcc(coarse);
         for (std::size_t l = begin; l < end; ++l) {
+            auto leaf = std::make_unique<LeafT>(touches[firstTouch[l]].first, fine.background());
             LeafT::NodeMaskType written; // by the current pass
             std::size_t pass = 0;
             for (std::size_t t = firstTouch[l]; t < firstTouch[l + 1]; ++t) {
@@ -235,14 +221,18 @@ runPasses(openvdb::Int32Tree& fine, const openvdb::Int32Tree& coarse, const Pass
                     ++pass;
                     written.setOff();
                 }
-                writeByPriority(*leaves[l], written, claims[n].box, claims[n].label,
+                writeByPriority(*leaf, written, claims[n].box, claims[n].label,
                                 options.priority);
             }
-            dropUnchanged(*leaves[l], coarseAcc, s);
+            dropUnchanged(*leaf, coarseAcc, s);
+            if (!leaf->isEmpty()) made[l] = std::move(leaf);
         }
     });
     interrupt.throwIfStopped("fattening");
-    openvdb::tools::pruneInactive(fine, options.threaded);
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> acc(fine);
+    for (std::unique_ptr<LeafT>& leaf : made) {
+        if (leaf) acc.addLeaf(leaf.release()); // the tree owns it now
+    }
 }
 
 /// Marks the coarse voxels whose closed cubes touch an element: [lo - 1, hi] per axis.
@@ -288,7 +278,28 @@ fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
     }
     passes.add(elements.vertices, s, constrained ? 3 : 2);
     auto fine = std::make_shared<openvdb::Int32Tree>(background);
-    runPasses(*fine, grid->tree(), passes, s, options);
+    auto mask = std::make_shared<openvdb::MaskTree>(false);
+    auto markSubdivided = [&] {
+        markTouchedVoxels(elements.faces, *mask);
+        markTouchedVoxels(elements.edges, *mask);
+        markTouchedVoxels(elements.vertices, *mask);
+    };
+    if (options.threaded) {
+        // The mask is marked in one thread: beside the passes, which leave a thread idle
+        // while they add their leaves.
+        tbb::task_group marking;
+        marking.run(markSubdivided);
+        try {
+            runPasses(*fine, grid->tree(), passes, s, options);
+        } catch (...) {
+            marking.wait();
+            throw;
+        }
+        marking.wait();
+    } else {
+        runPasses(*fine, grid->tree(), passes, s, options);
+        markSubdivided();
+    }
 
     result.fine = openvdb::Int32Grid::create(fine);
     result.fine->setName("fine_labels");
@@ -299,10 +310,6 @@ fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
     xform->preScale(1.0 / s);
     result.fine->setTransform(xform);
 
-    auto mask = std::make_shared<openvdb::MaskTree>(false);
-    markTouchedVoxels(elements.faces, *mask);
-    markTouchedVoxels(elements.edges, *mask);
-    markTouchedVoxels(elements.vertices, *mask);
     result.subdivided = openvdb::MaskGrid::create(mask);
     result.subdivided->setName("subdivided");
     result.subdivided->setTransform(grid->transform().copy());
