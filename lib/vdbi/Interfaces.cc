@@ -97,38 +97,42 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     Statistics& stats = result.statistics;
     StageClock clock(stats, options.repair.interrupter);
 
-    clock.start("prepare");
-    const openvdb::Int32Grid::ConstPtr labels = options.region.empty()
-        ? voxelizedLabels(grid) : labelsAround(grid, options.region);
-    stats.labelCount = collectLabels(*labels, options.repair.threaded).size();
-    clock.stop();
+    // The repaired labels and what led to them go before remeshing, which needs only the
+    // mesh (the fine grid of the frog: 70 MB).
+    {
+        clock.start("prepare");
+        const openvdb::Int32Grid::ConstPtr labels = options.region.empty()
+            ? voxelizedLabels(grid) : labelsAround(grid, options.region);
+        stats.labelCount = collectLabels(*labels, options.repair.threaded).size();
+        clock.stop();
 
-    clock.start("critical elements");
+        clock.start("critical elements");
 
-    const CriticalElements elements = findCriticalElements(*labels, options.repair);
-    stats.criticalFaces = elements.faces.size();
-    stats.criticalEdges = elements.edges.size();
-    stats.criticalVertices = elements.vertices.size();
-    stats.singularVertices = elements.singularVertexCount();
-    clock.stop();
+        const CriticalElements elements = findCriticalElements(*labels, options.repair);
+        stats.criticalFaces = elements.faces.size();
+        stats.criticalEdges = elements.edges.size();
+        stats.criticalVertices = elements.vertices.size();
+        stats.singularVertices = elements.singularVertexCount();
+        clock.stop();
 
-    clock.start("fattening");
+        clock.start("fattening");
 
-    const RefinedLabels refined = fattenCriticalElements(labels, elements, options.repair);
-    stats.subdividedVoxels = refined.subdivided->activeVoxelCount();
-    stats.relabelledSubvoxels = refined.fine->activeVoxelCount();
-    stats.subdivision = refined.subdivision;
-    clock.stop();
+        const RefinedLabels refined = fattenCriticalElements(labels, elements, options.repair);
+        stats.subdividedVoxels = refined.subdivided->activeVoxelCount();
+        stats.relabelledSubvoxels = refined.fine->activeVoxelCount();
+        stats.subdivision = refined.subdivision;
+        clock.stop();
 
-    clock.start("extraction");
+        clock.start("extraction");
 
-    ExtractionOptions extraction;
-    extraction.threaded = options.repair.threaded;
-    extraction.ownerBox = options.region;
-    extraction.pointKeys = options.pointKeys || !options.region.empty();
-    extraction.interrupter = options.repair.interrupter;
-    result.mesh = extractInterfacePatches(refined, extraction);
-    clock.stop();
+        ExtractionOptions extraction;
+        extraction.threaded = options.repair.threaded;
+        extraction.ownerBox = options.region;
+        extraction.pointKeys = options.pointKeys || !options.region.empty();
+        extraction.interrupter = options.repair.interrupter;
+        result.mesh = extractInterfacePatches(refined, extraction);
+        clock.stop();
+    }
 
     if (options.remesh) {
         clock.start("remeshing");
