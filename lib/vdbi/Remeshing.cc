@@ -299,11 +299,17 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         if (interrupt.poll()) return;
         RemeshingPatch patch(raw.patches[p], std::uint32_t(p), reference, curves);
         patch.attachCurveSamples();
-        // Fallback: the extracted triangles fitted to the samples, should a round go wrong.
-        PatchResult fitted = patch.exportMesh();
         if (!remeshIsotropically(patch, settings, interrupt)) return;
-        // The fallback's inner points are the extracted ones: at the voxel faces.
-        results[p] = patch.hasExpectedBoundary() ? patch.exportMesh(true) : std::move(fitted);
+        if (patch.hasExpectedBoundary()) {
+            results[p] = patch.exportMesh(true);
+        } else {
+            // Fallback, should a round go wrong: the extracted triangles fitted to the
+            // samples, made again rather than kept through the rounds (the largest patch's
+            // copy is tens of MB). Its inner points are the extracted ones: at the voxel faces.
+            RemeshingPatch fitted(raw.patches[p], std::uint32_t(p), reference, curves);
+            fitted.attachCurveSamples();
+            results[p] = fitted.exportMesh();
+        }
         remeshingTimes[p] = secondsSince(patchClock);
     });
     interrupt.throwIfStopped("remeshing");
