@@ -5,8 +5,8 @@
 #include <vdbi/Interruption.h>
 #include <vdbi/ParallelRanges.h>
 
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
-#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <memory>
@@ -284,20 +284,13 @@ fattenCriticalElements(const openvdb::Int32Grid::ConstPtr& grid,
         markTouchedVoxels(elements.edges, *mask);
         markTouchedVoxels(elements.vertices, *mask);
     };
+    auto relabel = [&] { runPasses(*fine, grid->tree(), passes, s, options); };
     if (options.threaded) {
-        // The mask is marked in one thread: beside the passes, which leave a thread idle
+        // The mask is marked in one thread, beside the passes: they leave a thread idle
         // while they add their leaves.
-        tbb::task_group marking;
-        marking.run(markSubdivided);
-        try {
-            runPasses(*fine, grid->tree(), passes, s, options);
-        } catch (...) {
-            marking.wait();
-            throw;
-        }
-        marking.wait();
+        tbb::parallel_invoke(relabel, markSubdivided);
     } else {
-        runPasses(*fine, grid->tree(), passes, s, options);
+        relabel();
         markSubdivided();
     }
 
