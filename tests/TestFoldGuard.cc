@@ -79,6 +79,29 @@ TEST_F(TestFoldGuard, testMovedIntoFold)
     EXPECT_FALSE(guard.movedIntoFold(centre, grid.points()));
 }
 
+TEST_F(TestFoldGuard, testFanCrossings)
+{
+    const VertexHandle centre(4);
+    Grid grid;
+    vdbi::FoldGuard guard(grid.mesh);
+    // Flat, or lifted out of the plane: nothing crosses.
+    EXPECT_EQ(guard.fanCrossings(centre), 0);
+    grid.mesh.set_point(centre, Point(1.0, 1.0, 0.7));
+    EXPECT_EQ(guard.fanCrossings(centre), 0);
+    // Past the edge of its ring, in the plane: its fan overlaps the face beyond, (1, 2, 5),
+    // and its own triangles overlap each other.
+    grid.mesh.set_point(centre, Point(2.6, 0.8, 0.0));
+    EXPECT_GT(guard.fanCrossings(centre), 0);
+    // Onto the corner (1, 0) of its ring: two of its triangles lose their area and touch the
+    // others (touching counts).
+    grid.mesh.set_point(centre, Point(1.0, 0.0, 0.0));
+    EXPECT_GT(guard.fanCrossings(centre), 0);
+    // A corner of the ring moved, not the centre: the faces around are read as they are now.
+    grid.mesh.set_point(centre, Point(1.0, 1.0, 0.0));
+    grid.mesh.set_point(VertexHandle(5), Point(0.5, 1.0, 0.0));
+    EXPECT_GT(guard.fanCrossings(centre), 0);
+}
+
 TEST_F(TestFoldGuard, testFlip)
 {
     // Flipping the diagonal of a convex square folds nothing; of a dart (point 8 pulled

@@ -76,9 +76,9 @@ FoldGuard::addNeighbour(FaceHandle f, int k)
     mNeighbourOf.push_back(k);
 }
 
+template<typename Vertices>
 void
-FoldGuard::collectAround(std::initializer_list<VertexHandle> near,
-                         const std::vector<FaceHandle>& skip)
+FoldGuard::collectAroundAll(const Vertices& near, const std::vector<FaceHandle>& skip)
 {
     if (mFaceMark.size() < mMesh.n_faces()) mFaceMark.resize(mMesh.n_faces(), 0);
     ++mMark;
@@ -97,6 +97,13 @@ FoldGuard::collectAround(std::initializer_list<VertexHandle> near,
     }
     mAroundTriangles.clear();
     for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f));
+}
+
+void
+FoldGuard::collectAround(std::initializer_list<VertexHandle> near,
+                         const std::vector<FaceHandle>& skip)
+{
+    collectAroundAll(near, skip);
 }
 
 bool
@@ -144,6 +151,27 @@ FoldGuard::movedIntoFold(VertexHandle v, const std::vector<Point>& before)
     mAroundTriangles.clear();
     for (const FaceHandle f : mAroundFaces) mAroundTriangles.push_back(cornerTriangle(f, before));
     return after > countCrossings(mOldTriangles, mAroundTriangles);
+}
+
+int
+FoldGuard::fanCrossings(VertexHandle v)
+{
+    mFan.assign(mMesh.cvf_begin(v), mMesh.cvf_end(v));
+    mNewTriangles.clear();
+    for (const FaceHandle f : mFan) mNewTriangles.push_back(cornerTriangle(f));
+    mRing.assign(mMesh.cvv_begin(v), mMesh.cvv_end(v));
+    collectAroundAll(mRing, mFan);
+    // Touching counts, as in separation: a fan laid onto a face is no better than through it.
+    int count = 0;
+    for (std::size_t i = 0; i < mNewTriangles.size(); ++i) {
+        for (const CornerTriangle& t : mAroundTriangles) {
+            count += trianglesTouch(mNewTriangles[i], t);
+        }
+        for (std::size_t j = i + 1; j < mNewTriangles.size(); ++j) {
+            count += trianglesTouch(mNewTriangles[i], mNewTriangles[j]);
+        }
+    }
+    return count;
 }
 
 } // namespace vdbi

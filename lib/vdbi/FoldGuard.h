@@ -55,6 +55,11 @@ public:
     /// than it did with every vertex at @a before?
     bool movedIntoFold(VertexHandle v, const std::vector<Point>& before);
 
+    /// @brief How many crossings the fan of @a v has, among its triangles and with the faces
+    /// that have a corner within two edges of @a v: every triangle is counted, not only those
+    /// at a sharp turn.
+    int fanCrossings(VertexHandle v);
+
     /// Face @a f at the current positions.
     CornerTriangle cornerTriangle(FaceHandle f) const;
     /// Face @a f with every vertex i at @a at[i].
@@ -67,6 +72,8 @@ private:
     /// mAroundFaces, and as triangles at the current positions into mAroundTriangles.
     void collectAround(std::initializer_list<VertexHandle> near,
                        const std::vector<FaceHandle>& skip);
+    template<typename Vertices>
+    void collectAroundAll(const Vertices& near, const std::vector<FaceHandle>& skip);
 
     const TriMesh& mMesh;
     /// The triangles the operation makes and those it replaces, the neighbours of the new
@@ -75,6 +82,7 @@ private:
     std::vector<int> mNeighbourOf;
     std::vector<char> mSuspect;
     std::vector<FaceHandle> mFan, mAroundFaces;
+    std::vector<VertexHandle> mRing;   ///< scratch of fanCrossings()
     std::vector<int> mFaceMark;   ///< mMark where a face was met already
     int mMark = 0;
 };
