@@ -45,10 +45,8 @@ struct RemeshSettings
 /// valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 /// smallest angle), tangential relaxation, projection onto the reference surface. After the
 /// last round, edges of triangles under 25 degrees are flipped where that raises the smaller
-/// smallest angle, and free vertices of fans with an angle under 30 degrees move (onto the
-/// reference): toward the mean of their neighbours where that raises the fan's smallest
-/// angle, then also a short step aside where that leaves the fan fewer triangles under 25
-/// degrees, or as many and a larger smallest angle.
+/// smallest angle, before and after the free vertices of fans with an angle under 30 degrees
+/// move (smoothSharpFans(), SharpFanSmoothing.h).
 /// @details Locked (boundary) vertices never move. No operation creates a non-manifold
 /// configuration, an inner edge between two locked vertices that another patch may make too
 /// (RemeshingPatch::mayJoinLocked()), or takes the surface more than sqrt(deviation2) away

@@ -97,6 +97,17 @@ public:
     Point& refNormal(VertexHandle v) { return mMesh.property(mRefNormal, v); }
     const Point& anchor(VertexHandle v) const { return mMesh.property(mAnchor, v); }
     std::uint32_t& refTriangle(VertexHandle v) { return mMesh.property(mRefTriangle, v); }
+    /// The mean of the neighbours of @a v (which has some).
+    Point neighbourMean(VertexHandle v) const
+    {
+        Point sum(0, 0, 0);
+        int count = 0;
+        for (const VertexHandle w : mMesh.vv_range(v)) {
+            sum += mMesh.point(w);
+            ++count;
+        }
+        return sum / double(count);
+    }
 
     /// @brief Does triangle (a, b, c) face the way the reference surface does at each of its
     /// corners? A triangle that folds over, or spans a thin part from one side to the

@@ -8,6 +8,7 @@
 
 #include <vdbi/PatchBoundary.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -26,6 +27,16 @@ trianglePoints(const TriMesh& mesh, TriMesh::FaceHandle f)
     auto it = mesh.cfv_iter(f);
     const TriMesh::VertexHandle a = *it, b = *++it, c = *++it;
     return {mesh.point(a), mesh.point(b), mesh.point(c)};
+}
+
+/// Appends to @a faces those around @a v of @a mesh that it does not list yet.
+inline void
+appendFacesAround(const TriMesh& mesh, TriMesh::VertexHandle v,
+                  std::vector<TriMesh::FaceHandle>& faces)
+{
+    for (const TriMesh::FaceHandle g : mesh.vf_range(v)) {
+        if (std::find(faces.begin(), faces.end(), g) == faces.end()) faces.push_back(g);
+    }
 }
 
 /// Squared distance from @a p to triangle (a, b, c). Flattened: the library's own copy of
