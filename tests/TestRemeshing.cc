@@ -595,11 +595,12 @@ TEST_F(TestRemeshing, testFrogAtOneVoxel)
 // centre of a split voxel face) lay on the chord between two curve samples and no collapse
 // could remove: moveOffChords() moves it first. The smallest angles' 1st percentile was
 // 19.7 degrees before the sharp fans were smoothed after the last round, 20.1 while they
-// moved only toward the mean of their neighbours, 21.4 with steps aside off the curves too
-// (the target is 25).
+// moved only toward the mean of their neighbours, 21.4 with steps aside off the curves too,
+// 22.5 with steps aside also next to the curves where the boundary is not tight (the issue's
+// target is 25).
 TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 {
-    checkFrog(2.0, 21.0);
+    checkFrog(2.0, 22.0);
 }
 
 // At four voxels: 39 pairs were left while the first round collapsed straight from the

@@ -15,6 +15,7 @@ namespace {
 
 using Point = TriMesh::Point;
 using VertexHandle = TriMesh::VertexHandle;
+using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
 /// A fan with an angle under this many degrees is smoothed.
@@ -58,13 +59,40 @@ private:
     const std::vector<Point>& moves(VertexHandle v, const Point& normal, const FanShape& old,
                                     bool aside);
 
-    /// Has @a v a locked neighbour (a curve sample)?
-    bool nextToLocked(VertexHandle v) const
+    /// @brief Has @a v a neighbour where the boundary is tight: where it touches itself, or
+    /// where one of its segments is shorter than half the target?
+    /// @details There other patches come close (tiny features, curves side by side), and a
+    /// patch cannot see them: steps aside there made two patches cross (frog at 4 voxels, 2
+    /// pairs, at segments of 0.17 and 0.35 target) where separation could not free them.
+    bool nextToTightBoundary(VertexHandle v) const
     {
+        const double short2 = 0.25 * mSettings.target * mSettings.target;
         for (const VertexHandle w : mMesh.vv_range(v)) {
-            if (mPatch.isLocked(w)) return true;
+            if (!mPatch.isLocked(w)) continue;
+            int segments = 0;
+            for (const HalfedgeHandle h : mMesh.voh_range(w)) {
+                if (!mMesh.is_boundary(mMesh.edge_handle(h))) continue;
+                ++segments;
+                const Point d = mMesh.point(mMesh.to_vertex_handle(h)) - mMesh.point(w);
+                if (d.sqrnorm() < short2) return true;
+            }
+            if (segments != 2) return true;
         }
         return false;
+    }
+    /// @brief Is @a hit on an edge or a corner of a reference triangle whose ends are curve
+    /// points (its barycentric weights are exactly 0 elsewhere)?
+    /// @details A step aside past the patch's edge projects there: a free vertex on a curve
+    /// touches the patches across it.
+    bool isOnCurve(const ReferenceSurface::Hit& hit) const
+    {
+        const openvdb::Vec3I& t = mPatch.reference().triangles()[hit.triangle];
+        bool onEdge = false, curveEnds = true;
+        for (int k = 0; k < 3; ++k) {
+            if (hit.barycentric[k] == 0.0) onEdge = true;
+            else curveEnds = curveEnds && mPatch.isCurvePoint(std::size_t(t[k]));
+        }
+        return onEdge && curveEnds;
     }
     TrianglePoints triangle(FaceHandle f) const { return trianglePoints(mMesh, f); }
 
@@ -178,9 +206,7 @@ SharpFanSmoother::smooth(bool aside)
     //   coverage. Fans that cross anything within two edges are left to separation, and no
     //   move may make a fan cross more: tried in many places, moves find folds at creases
     //   that the rounds' test (at sharp turns only) lets through (menger at 4 voxels). Fans
-    //   at a curve are left as they are: a patch cannot see the others on its curves, and
-    //   such moves left crossings of two patches that separation could not free (frog at 4
-    //   voxels: 2 pairs).
+    //   next to a tight part of the boundary stay as they are (nextToTightBoundary()).
     const double sharpCos = std::cos(SHARP_FAN_DEGREES * M_PI / 180.0);
     std::vector<Point> before(mMesh.n_vertices());
     for (const VertexHandle v : mMesh.vertices()) before[v.idx()] = mMesh.point(v);
@@ -193,7 +219,7 @@ SharpFanSmoother::smooth(bool aside)
             if (mMesh.status(v).deleted() || !mPatch.isFree(v)) continue;
             const FanShape old = fanShape(v);
             if (old.smallestCos <= sharpCos) continue;
-            if (aside && (nextToLocked(v) || mFolds.fanCrossings(v) > 0)) continue;
+            if (aside && (nextToTightBoundary(v) || mFolds.fanCrossings(v) > 0)) continue;
             const Point p = mMesh.point(v), normal = mPatch.refNormal(v);
             const std::uint32_t startTriangle = mPatch.refTriangle(v);
             bool agreedBefore = true;
@@ -205,7 +231,9 @@ SharpFanSmoother::smooth(bool aside)
                 const ReferenceSurface::Hit hit =
                     mPatch.reference().closestPointNear(toVec(p + move), start);
                 const Point& from = aside ? normal : mPatch.anchor(v);
-                if ((toPoint(hit.normal) | from) < mSettings.creaseCos) continue;
+                if ((toPoint(hit.normal) | from) < mSettings.creaseCos || isOnCurve(hit)) {
+                    continue;
+                }
                 mMesh.set_point(v, toPoint(hit.point));
                 mPatch.refNormal(v) = toPoint(hit.normal);
                 const FanShape shape = fanShape(v);
@@ -215,9 +243,14 @@ SharpFanSmoother::smooth(bool aside)
                 mTriangles.clear();
                 for (const FaceHandle f : mMesh.vf_range(v)) {
                     if (!ok) break;
-                    if (agreedBefore && !mPatch.agrees(f)) ok = false;
+                    // Without area: the fan's smallest angle is no guard where it was sharp
+                    // already (monu16 at 4 voxels: a triangle along a straight curve).
+                    const TrianglePoints t = triangle(f);
+                    if ((agreedBefore && !mPatch.agrees(f)) || hasNoArea(t.a, t.b, t.c)) {
+                        ok = false;
+                    }
                     mFaces.push_back(f);
-                    mTriangles.push_back(triangle(f));
+                    mTriangles.push_back(t);
                 }
                 ok = ok && mCoverage.keepsCovered(mFaces, mTriangles,
                                                   mSettings.smoothingDeviation2, &before);

@@ -21,7 +21,8 @@ constexpr double SHARP_TRIANGLE_DEGREES = 25.0;
 /// @details Two passes. First toward the mean of the neighbours (whole or half way), when
 /// that raises the fan's smallest angle. Then also to a short step aside, when that leaves
 /// the fan fewer triangles under SHARP_TRIANGLE_DEGREES, or as many and a larger smallest
-/// angle; fans next to a curve sample or crossing anything within two edges stay. Every loop
+/// angle; fans next to a tight part of the boundary (a segment under half the target, or
+/// where it touches itself) or crossing anything within two edges stay. Every loop
 /// runs in vertex order: the result depends on the patch alone.
 /// @param coverage  the reference points every face of @a patch covers, kept up to date
 void smoothSharpFans(RemeshingPatch& patch, ReferenceCoverage& coverage,
