@@ -523,27 +523,26 @@ IsotropicRemesher::tangentialRelaxation()
         // A vertex on a folded triangle (attaching the curve samples leaves some where the
         // smoothed curve bulges out of a chord between samples) goes to the mean of its
         // neighbours instead: inside its ring, which the weighted centroid need not be.
-        Point sum(0, 0, 0);
-        double area = 0.0;
         bool folded = false;
         for (const FaceHandle f : mMesh.vf_range(v)) folded = folded || !agrees(f);
+        Point centre;
         if (folded) {
-            for (const VertexHandle w : mMesh.vv_range(v)) {
-                sum += mMesh.point(w);
-                area += 1.0;
+            centre = mPatch.neighbourMean(v);
+        } else {
+            Point sum(0, 0, 0);
+            double area = 0.0;
+            for (const FaceHandle f : mMesh.vf_range(v)) {
+                auto it = mMesh.cfv_iter(f);
+                const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
+                            &c = mMesh.point(*++it);
+                const double w = ((b - a) % (c - a)).norm();
+                sum += (a + b + c) * (w / 3.0);
+                area += w;
             }
+            if (!(area > 0.0)) continue;
+            centre = sum / area;
         }
-        for (const FaceHandle f : mMesh.vf_range(v)) {
-            if (folded) break;
-            auto it = mMesh.cfv_iter(f);
-            const Point &a = mMesh.point(*it), &b = mMesh.point(*++it),
-                        &c = mMesh.point(*++it);
-            const double w = ((b - a) % (c - a)).norm();
-            sum += (a + b + c) * (w / 3.0);
-            area += w;
-        }
-        if (!(area > 0.0)) continue;
-        Point d = sum / area - p;
+        Point d = centre - p;
         const Point& n = refNormal(v);
         d -= n * (d | n);
         moved[v.idx()] = p + d;
