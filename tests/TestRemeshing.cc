@@ -8,6 +8,7 @@
 #include "support/RawExtraction.h"
 #include "support/TestData.h"
 
+#include <vdbi/ChordOwners.h>
 #include <vdbi/Exceptions.h>
 #include <vdbi/FeatureCurves.h>
 #include <vdbi/Interfaces.h>
@@ -383,6 +384,45 @@ TEST_F(TestRemeshing, testFeatureCurvesOfTouchingBoxes)
     }
 }
 
+// A cube of label 1 on a slab of label 2: one closed curve around the cube's base, on the
+// patches (0,1) (the cube's walls and top), (0,2) (the slab's surface) and (1,2) (the cube's
+// base). Across every bend of the curve, at the base's corners, a chord runs into the base:
+// it is the base's. (The first patch, the walls, used to own every chord: a chord across a
+// corner lay in the base's plane there.) A chord between two samples of the same side is
+// nobody's in particular, and between two junctions nobody's.
+TEST_F(TestRemeshing, testChordOwnerAtBends)
+{
+    auto grid = openvdb::Int32Grid::create(0);
+    grid->tree().fill(openvdb::CoordBBox(Coord(0, 0, 0), Coord(9, 9, 2)), 2, true);
+    grid->tree().fill(openvdb::CoordBBox(Coord(2, 2, 3), Coord(7, 7, 8)), 1, true);
+    const vdbi::InterfaceMesh raw = extract(*grid);
+    ASSERT_EQ(raw.patches.size(), 3u);   // (0,1), (0,2), (1,2)
+    auto curves = vdbi::findFeatureCurves(raw);
+    ASSERT_EQ(curves.curves.size(), 1u);
+    vdbi::smoothFeatureCurves(curves, raw, 10, Vec3d(0.45));
+    vdbi::resampleFeatureCurves(curves, 2.0, 0.7);
+    vdbi::measureCurveSides(curves, raw);
+
+    const auto& samples = curves.curves[0].samples;
+    const std::size_t n = samples.size() - 1;
+    ASSERT_GE(n, 8u);
+    int bends = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::uint32_t u = samples[k], w = samples[(k + 1) % n], v = samples[(k + 2) % n];
+        Vec3d a = curves.samplePoints[u] - curves.samplePoints[w];
+        Vec3d b = curves.samplePoints[v] - curves.samplePoints[w];
+        a.normalize();
+        b.normalize();
+        const double degrees = std::acos(a.dot(b)) * 180.0 / M_PI;
+        if (degrees > 160.0) continue;
+        ++bends;
+        EXPECT_EQ(vdbi::chordOwner(curves, u, v), 2u) << "bend of " << degrees << " degrees at " << w;
+        EXPECT_EQ(vdbi::chordOwner(curves, v, u), 2u);
+    }
+    EXPECT_GE(bends, 4);
+    EXPECT_EQ(vdbi::chordOwner(curves, samples[0], samples[0]), vdbi::FeatureCurves::NO_PATCH);
+}
+
 // A strip one voxel wide on a box, remeshed at 4 voxels: uniform samples 3.5 voxels apart
 // along its boundary would cut its ends off, leaving its end faces over a voxel from the
 // patch; the samples follow its corners instead, and every voxel face stays within a voxel.
@@ -596,11 +636,12 @@ TEST_F(TestRemeshing, testFrogAtOneVoxel)
 // could remove: moveOffChords() moves it first. The smallest angles' 1st percentile was
 // 19.7 degrees before the sharp fans were smoothed after the last round, 20.1 while they
 // moved only toward the mean of their neighbours, 21.4 with steps aside off the curves too,
-// 22.5 with steps aside also next to the curves where the boundary is not tight (the issue's
-// target is 25).
+// 22.5 with steps aside also next to the curves where the boundary is not tight, 23.2 with
+// the chords between curve samples given to the patch they run into (the target is
+// 25).
 TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 {
-    checkFrog(2.0, 22.0);
+    checkFrog(2.0, 23.0);
 }
 
 // At four voxels: 39 pairs were left while the first round collapsed straight from the

@@ -65,6 +65,17 @@ struct FeatureCurves
     /// for a junction. Empty until resampleFeatureCurves().
     std::vector<std::uint32_t> sampleCurves;
     static constexpr std::uint32_t NO_CURVE = ~std::uint32_t(0);
+    /// @brief Where every patch of its curve lies seen from an inner sample: the unit
+    /// direction from the extracted curve there into the patch's triangle, across the curve
+    /// (zero if unknown). Inner sample s's are sampleSides[sampleSideStart[s - J] + j] for
+    /// the j-th patch of its curve, J the number of junctions. Empty until
+    /// measureCurveSides() (ChordOwners.h).
+    std::vector<openvdb::Vec3f> sampleSides;
+    std::vector<std::uint32_t> sampleSideStart;
+    /// The patches at every junction (of the curves that end there), ascending: those of
+    /// junction j are junctionPatches[junctionPatchStart[j] .. junctionPatchStart[j + 1]).
+    std::vector<std::uint32_t> junctionPatches, junctionPatchStart;
+    static constexpr std::uint32_t NO_PATCH = ~std::uint32_t(0);
 
     static std::uint64_t edgeKey(std::uint32_t u, std::uint32_t v)
     {

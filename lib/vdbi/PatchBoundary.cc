@@ -2,6 +2,7 @@
 
 #include <vdbi/PatchBoundary.h>
 
+#include <vdbi/ChordOwners.h>
 #include <vdbi/Exceptions.h>
 
 #include <algorithm>
@@ -31,20 +32,8 @@ RemeshingPatch::RemeshingPatch(const InterfacePatch& patch, std::uint32_t patchI
 bool
 RemeshingPatch::mayJoinLocked(VertexHandle u, VertexHandle v) const
 {
-    const std::uint32_t cu = mCurves.sampleCurves[std::size_t(mMesh.property(mSample, u))];
-    const std::uint32_t cv = mCurves.sampleCurves[std::size_t(mMesh.property(mSample, v))];
-    if (cu == FeatureCurves::NO_CURVE && cv == FeatureCurves::NO_CURVE) return false;
-    // The first patch on both curves, or on the one curve when the other end is a junction.
-    const std::vector<std::uint32_t>& pu =
-        mCurves.curves[cu != FeatureCurves::NO_CURVE ? cu : cv].patches;
-    const std::vector<std::uint32_t>& pv =
-        mCurves.curves[cv != FeatureCurves::NO_CURVE ? cv : cu].patches;
-    for (auto i = pu.begin(), j = pv.begin(); i != pu.end() && j != pv.end();) {
-        if (*i == *j) return *i == mPatchIndex;
-        if (*i < *j) ++i;
-        else ++j;
-    }
-    return false;
+    return chordOwner(mCurves, std::uint32_t(mMesh.property(mSample, u)),
+                      std::uint32_t(mMesh.property(mSample, v))) == mPatchIndex;
 }
 
 

@@ -79,14 +79,12 @@ public:
 
     bool isLocked(VertexHandle v) const { return mMesh.property(mSample, v) >= 0; }
     /// @brief May an inner edge of this patch join locked vertices @a u and @a v?
-    /// @details Only if this patch is the first that has both vertices as far as their
-    /// curves tell: the first on both curves when both are inner samples, the first on the
-    /// inner sample's curve when the other is a junction. Every patch with both vertices is
-    /// on those curves, so at most one patch makes the edge, and it is no curve segment
-    /// (the segments at an inner sample are boundary edges of every patch on its curve).
-    /// Never between two junctions (a single-segment curve elsewhere may join them). Without
-    /// such edges a vertex next to a run of samples could not go, leaving short edges at the
-    /// curves.
+    /// @details Only if this patch is their chordOwner() (ChordOwners.h): every patch asks
+    /// the same question of the same data, so at most one patch makes the edge, and it is no
+    /// curve segment (the segments at an inner sample are boundary edges of every patch on
+    /// its curve). Never between two junctions (a single-segment curve elsewhere may join
+    /// them). Without such edges a vertex next to a run of samples could not go, leaving
+    /// short edges at the curves.
     bool mayJoinLocked(VertexHandle u, VertexHandle v) const;
     /// Not deleted, not locked, not on the boundary: a vertex remeshing may move or remove.
     bool isFree(VertexHandle v) const

@@ -2,6 +2,7 @@
 
 #include <vdbi/Remeshing.h>
 
+#include <vdbi/ChordOwners.h>
 #include <vdbi/FeatureCurves.h>
 #include <vdbi/Interruption.h>
 #include <vdbi/IsotropicRemeshing.h>
@@ -281,6 +282,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     smoothFeatureCurves(curves, raw, CURVE_SMOOTHING, voxel * CURVE_BOUND, options.threaded);
     resampleFeatureCurves(curves, settings.target, CHORD_DEVIATION * smallestVoxel,
                           options.threaded);
+    measureCurveSides(curves, raw, options.threaded);
     stats.curveSeconds = secondsSince(clock);
     checkInterrupt(options.interrupter, "remeshing");
 

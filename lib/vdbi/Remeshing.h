@@ -63,8 +63,8 @@ struct RemeshStatistics
 ///    valence 6 (4 on the boundary), flip caps (non-Delaunay edges whose flip raises the
 ///    smallest angle), tangential relaxation, projection onto the reference surface. No
 ///    operation creates a non-manifold configuration, a folded triangle, an interior edge
-///    between two boundary vertices that another patch may make too (only the first patch
-///    on the curves of both may), or takes the surface more than 0.6 voxel away from a
+///    between two boundary vertices that another patch may make too (only their
+///    chordOwner(), the patch the edge runs into, may), or takes the surface more than 0.6 voxel away from a
 ///    point of the reference surface (off the curves; nor farther than it already was); no
 ///    relaxation move drags a vertex across a crease. So a patch never
 ///    loses its topology (every label keeps its Euler characteristic) and a patch on a
