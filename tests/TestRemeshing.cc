@@ -384,6 +384,48 @@ TEST_F(TestRemeshing, testFeatureCurvesOfTouchingBoxes)
     }
 }
 
+// An L-shaped curve: 5 along x, then 0.9 along y; target 2, chords within 0.6 of the curve.
+// Uniform samples cut the corner by 0.69; split at the corner, its short leg would be a chord
+// of 0.45 target. The samples are placed so that every chord is in [0.5, 1.5] x target and
+// within the bound: the last inner one on the long leg, under 0.8 before the corner.
+TEST_F(TestRemeshing, testResampledBendKeepsChordsInRange)
+{
+    vdbi::FeatureCurves curves;
+    curves.junctions = {0, 6};
+    vdbi::FeatureCurve curve;
+    for (std::uint32_t i = 0; i <= 6; ++i) curve.points.push_back(i);
+    for (int x = 0; x <= 5; ++x) curve.smoothed.push_back(Vec3d(x, 0, 0));
+    curve.smoothed.push_back(Vec3d(5, 0.9, 0));
+    curve.arcLength = {0, 1, 2, 3, 4, 5, 5.9};
+    curve.patches = {0};
+    curves.curves.push_back(curve);
+    const double target = 2.0, bound = 0.6;
+    vdbi::resampleFeatureCurves(curves, target, bound, false);
+
+    const vdbi::FeatureCurve& out = curves.curves[0];
+    ASSERT_GE(out.samples.size(), 3u);
+    EXPECT_EQ(out.samples.front(), 0u);
+    EXPECT_EQ(out.samples.back(), 1u);
+    for (std::size_t k = 1; k < out.samples.size(); ++k) {
+        const Vec3d a = curves.samplePoints[out.samples[k - 1]];
+        const Vec3d b = curves.samplePoints[out.samples[k]];
+        const double chord = (b - a).length() / target;
+        EXPECT_GE(chord, 0.5) << "segment " << k;
+        EXPECT_LE(chord, 1.5) << "segment " << k;
+        EXPECT_GT(out.sampleArcLength[k], out.sampleArcLength[k - 1]);
+        for (const Vec3d& p : out.smoothed) {
+            if (p[0] < std::min(a[0], b[0]) - 1e-9 || p[0] > std::max(a[0], b[0]) + 1e-9) continue;
+            if (p[1] < std::min(a[1], b[1]) - 1e-9 || p[1] > std::max(a[1], b[1]) + 1e-9) continue;
+            const double t = std::clamp((p - a).dot(b - a) / (b - a).lengthSqr(), 0.0, 1.0);
+            EXPECT_LE((p - (a + (b - a) * t)).length(), bound + 1e-9) << "segment " << k;
+        }
+    }
+    const Vec3d last = curves.samplePoints[out.samples[out.samples.size() - 2]];
+    EXPECT_EQ(last[1], 0.0);
+    EXPECT_GT(last[0], 4.2);
+    EXPECT_LT(last[0], 5.0);
+}
+
 // A cube of label 1 on a slab of label 2: one closed curve around the cube's base, on the
 // patches (0,1) (the cube's walls and top), (0,2) (the slab's surface) and (1,2) (the cube's
 // base). Across every bend of the curve, at the base's corners, a chord runs into the base:
@@ -416,7 +458,8 @@ TEST_F(TestRemeshing, testChordOwnerAtBends)
         const double degrees = std::acos(a.dot(b)) * 180.0 / M_PI;
         if (degrees > 160.0) continue;
         ++bends;
-        EXPECT_EQ(vdbi::chordOwner(curves, u, v), 2u) << "bend of " << degrees << " degrees at " << w;
+        EXPECT_EQ(vdbi::chordOwner(curves, u, v), 2u)
+            << "bend of " << degrees << " degrees at " << w;
         EXPECT_EQ(vdbi::chordOwner(curves, v, u), 2u);
     }
     EXPECT_GE(bends, 4);

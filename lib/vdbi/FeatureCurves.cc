@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -190,68 +191,92 @@ chordsFollow(const FeatureCurve& curve, const std::vector<double>& arcs, double 
     return true;
 }
 
-/// @brief Indices of the smoothed points that a Douglas-Peucker simplification of the curve
-/// with tolerance @a maxDeviation keeps, ascending, the two ends included: its corners.
-std::vector<std::size_t>
-cornerPoints(const FeatureCurve& curve, double maxDeviation)
+/// @brief Arc lengths of samples of @a curve, from 0 to its length, at least @a minSegments
+/// segments, every point of the curve within @a maxDeviation of the chord over it: those whose
+/// chords are the fewest out of [0.5, 1.5] x @a targetLength, then the nearest to it.
+/// @details The cheapest path over candidate places along the curve (every smoothed point,
+/// and places an eighth of the target apart at most between them). A chord costs
+/// (log of its length over the target)^2, plus OUT_OF_RANGE out of the range, plus
+/// (its largest deviation over @a maxDeviation)^2: a chord that cuts a bend makes the
+/// triangles along it sharper (frog at 2 voxels: 1st-percentile smallest angle 23.2 degrees
+/// without that term, 23.3 with it).
+std::vector<double>
+bestArcLengths(const FeatureCurve& curve, double targetLength, std::size_t minSegments,
+               double maxDeviation)
 {
+    constexpr double OUT_OF_RANGE = 4.0, CANDIDATE_STEP = 0.125;
+    // No chord spans more arc than this many targets: farther, they stray from the bound.
+    constexpr double LONGEST_ARC = 3.0;
     const std::vector<openvdb::Vec3d>& p = curve.smoothed;
-    std::vector<char> kept(p.size(), 0);
-    kept.front() = kept.back() = 1;
-    std::vector<std::pair<std::size_t, std::size_t>> stack{{0, p.size() - 1}};
-    while (!stack.empty()) {
-        const auto [first, last] = stack.back();
-        stack.pop_back();
-        std::size_t farthest = first;
-        double worst = maxDeviation;
-        for (std::size_t i = first + 1; i < last; ++i) {
-            const double d = distanceToSegment(p[i], p[first], p[last]);
-            if (d > worst) {
-                worst = d;
-                farthest = i;
+    const std::size_t np = p.size();
+    // Candidates: arc length, position, and the first smoothed point after them.
+    std::vector<double> arc;
+    std::vector<openvdb::Vec3d> at;
+    std::vector<std::size_t> nextPoint;
+    const double step = CANDIDATE_STEP * targetLength;
+    for (std::size_t i = 0; i + 1 < np; ++i) {
+        const double a = curve.arcLength[i], b = curve.arcLength[i + 1];
+        const std::size_t parts = std::max<std::size_t>(1, std::size_t(std::ceil((b - a) / step)));
+        for (std::size_t j = 0; j < parts; ++j) {
+            if (j > 0 && !(b > a)) break;
+            const double w = double(j) / double(parts);
+            arc.push_back(a + (b - a) * w);
+            at.push_back(p[i] * (1.0 - w) + p[i + 1] * w);
+            nextPoint.push_back(j == 0 ? i : i + 1);
+        }
+    }
+    arc.push_back(curve.length());
+    at.push_back(p.back());
+    nextPoint.push_back(np - 1);
+    const std::size_t nc = arc.size();
+
+    // cost[c * levels + s]: the cheapest samples up to candidate c with min(s, minSegments)
+    // segments; from[...] the candidate and level before.
+    const std::size_t levels = minSegments + 1;
+    constexpr double NONE = std::numeric_limits<double>::infinity();
+    std::vector<double> cost(nc * levels, NONE);
+    std::vector<std::uint32_t> from(nc * levels, 0);
+    cost[0] = 0.0;
+    const double inverseTarget = 1.0 / targetLength;
+    for (std::size_t c = 0; c + 1 < nc; ++c) {
+        bool reached = false;
+        for (std::size_t s = 0; s < levels; ++s) reached = reached || cost[c * levels + s] < NONE;
+        if (!reached) continue;
+        for (std::size_t d = c + 1; d < nc; ++d) {
+            if (d > c + 1 && arc[d] - arc[c] > LONGEST_ARC * targetLength) break;
+            // The smoothed points strictly between the two candidates.
+            double deviation = 0.0;
+            for (std::size_t i = nextPoint[c]; i < nextPoint[d] && deviation <= maxDeviation; ++i) {
+                if (curve.arcLength[i] <= arc[c]) continue;
+                deviation = std::max(deviation, distanceToSegment(p[i], at[c], at[d]));
+            }
+            if (deviation > maxDeviation) break;
+            const double t = (at[d] - at[c]).length() * inverseTarget;
+            const double logT = t > 0.0 ? std::log(t) : -1e3;
+            const double bend = deviation / maxDeviation;
+            const double chord =
+                logT * logT + ((t < 0.5 || t > 1.5) ? OUT_OF_RANGE : 0.0) + bend * bend;
+            for (std::size_t s = 0; s < levels; ++s) {
+                const double here = cost[c * levels + s];
+                if (!(here < NONE)) continue;
+                const std::size_t to = d * levels + std::min(s + 1, minSegments);
+                if (here + chord < cost[to]) {
+                    cost[to] = here + chord;
+                    from[to] = std::uint32_t(c * levels + s);
+                }
             }
         }
-        if (farthest == first) continue;
-        kept[farthest] = 1;
-        stack.push_back({first, farthest});
-        stack.push_back({farthest, last});
     }
-    std::vector<std::size_t> corners;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (kept[i]) corners.push_back(i);
+    // The cheapest end with enough segments, else with the most (split below).
+    std::size_t end = (nc - 1) * levels + minSegments;
+    while (!(cost[end] < NONE)) --end;
+    std::vector<double> arcs;
+    for (std::size_t k = end;; k = from[k]) {
+        arcs.push_back(arc[k / levels]);
+        if (k == 0) break;
     }
-    return corners;
-}
-
-/// @brief Arc lengths of the samples of @a curve, from 0 to its length: uniform, about
-/// @a targetLength apart, where the chords between them stay within @a maxDeviation of the
-/// curve; else uniform between the curve's corners (cornerPoints()), so that a tight bend (the
-/// end of a strip one voxel wide, the corner of a box) keeps a sample instead of being cut.
-/// At least @a minSegments segments.
-std::vector<double>
-sampleArcLengths(const FeatureCurve& curve, double targetLength, std::size_t minSegments,
-                 double maxDeviation)
-{
-    auto segmentsFor = [&](double length) {
-        return std::size_t(std::max(1L, std::lround(length / targetLength)));
-    };
-    std::vector<double> arcs{0.0};
-    auto appendUniform = [&](double from, double to, std::size_t n) {
-        for (std::size_t k = 1; k <= n; ++k) {
-            arcs.push_back(from + (to - from) * double(k) / double(n));
-        }
-    };
-    const double length = curve.length();
-    appendUniform(0.0, length, std::max(minSegments, segmentsFor(length)));
-    if (chordsFollow(curve, arcs, maxDeviation)) return arcs;
-
-    arcs.assign(1, 0.0);
-    const std::vector<std::size_t> corners = cornerPoints(curve, maxDeviation);
-    for (std::size_t j = 1; j < corners.size(); ++j) {
-        const double from = curve.arcLength[corners[j - 1]], to = curve.arcLength[corners[j]];
-        if (to > from) appendUniform(from, to, segmentsFor(to - from));
-    }
-    arcs.back() = length;
+    std::reverse(arcs.begin(), arcs.end());
+    arcs.back() = curve.length();
     // Too few segments (a short closed curve): halve the longest until there are enough.
     while (arcs.size() < minSegments + 1) {
         std::size_t longest = 1;
@@ -262,6 +287,33 @@ sampleArcLengths(const FeatureCurve& curve, double targetLength, std::size_t min
                     0.5 * (arcs[longest - 1] + arcs[longest]));
     }
     return arcs;
+}
+
+/// @brief Arc lengths of the samples of @a curve, from 0 to its length: uniform, about
+/// @a targetLength apart (at least @a minSegments segments), where the chords between them
+/// stay within @a maxDeviation of the curve; else bestArcLengths().
+/// @details Where uniform chords cut a tight bend (the end of a strip one voxel wide, the
+/// corner of a box), the samples used to be uniform between the curve's corners, and the
+/// pieces between corners came out as short as they were: on the frog at 2 voxels, 1 062 of
+/// the curves' segments were under half the target by arc length, 2 206 by chord; 1 984 by
+/// chord now. bestArcLengths() for every curve would leave 1 187 (edges in range 98.16 %
+/// instead of 97.98 %), but it also replaces the short chords of hairpins that uniform samples
+/// follow, and the patches inside them get sharper triangles (1st-percentile smallest angle
+/// 22.9 degrees instead of 23.3).
+std::vector<double>
+sampleArcLengths(const FeatureCurve& curve, double targetLength, std::size_t minSegments,
+                 double maxDeviation)
+{
+    auto segmentsFor = [&](double length) {
+        return std::size_t(std::max(1L, std::lround(length / targetLength)));
+    };
+    const double length = curve.length();
+    const std::size_t n = std::max(minSegments, segmentsFor(length));
+    std::vector<double> arcs;
+    for (std::size_t k = 0; k <= n; ++k) arcs.push_back(length * double(k) / double(n));
+    arcs.back() = length;
+    if (chordsFollow(curve, arcs, maxDeviation)) return arcs;
+    return bestArcLengths(curve, targetLength, minSegments, maxDeviation);
 }
 
 } // namespace

@@ -109,8 +109,9 @@ void smoothFeatureCurves(FeatureCurves& curves, const InterfaceMesh& mesh, int i
 /// two junctions (so no two curves share a segment, no patch boundary is a 2-gon, and a
 /// single-segment curve never coincides with an extracted edge of another curve). Where a
 /// chord of those would pass farther than @a maxDeviation from the smoothed curve (a tight
-/// bend cut short), the curve is split at its corners (Douglas-Peucker with that tolerance)
-/// and every piece is resampled uniformly instead. Fills FeatureCurve::samples,
+/// bend cut short), the samples are placed instead where every chord stays within that
+/// bound and the fewest chords are shorter than half the target or longer than 1.5 times it
+/// (a cheapest path over places along the curve). Fills FeatureCurve::samples,
 /// sampleArcLength and FeatureCurves::samplePoints, sampleCurves.
 /// @pre smoothFeatureCurves() ran
 void resampleFeatureCurves(FeatureCurves& curves, double targetLength, double maxDeviation,
