@@ -3,6 +3,7 @@
 #include <vdbi/PatchSeparation.h>
 
 #include <vdbi/CandidateGrid.h>
+#include <vdbi/FanShape.h>
 #include <vdbi/TriangleCrossing.h>
 
 #include <algorithm>
@@ -160,7 +161,75 @@ public:
         return false;
     }
 
+    /// shapeSharpFans() of one point; true if it moved.
+    bool shapeFan(std::uint32_t v)
+    {
+        if (!mMovable[v] || mStart[v] == mStart[v + 1]) return false;
+        const FanShape old = fanShape(v);
+        if (old.sharp == 0) return false;
+        Vec3d normal = vertexNormal(v);
+        if (!normal.normalize()) return false;
+        const Vec3d here = mMesh.points[v];
+        double reach = 0.0;
+        int corners = 0;
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t w = mMesh.triangles[mAround[i]][k];
+                if (w == v) continue;
+                reach += (mMesh.points[w] - here).length();
+                ++corners;
+            }
+        }
+        reach /= double(corners);
+        // The pattern of SharpFanSmoothing's steps aside, in the plane of the vertex normal.
+        Vec3d e1 = std::abs(normal[0]) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
+        e1 -= normal * e1.dot(normal);
+        e1.normalize();
+        const Vec3d e2 = normal.cross(e1);
+        static constexpr double STEPS[] = {0.3, 0.15, 0.07};
+        constexpr int DIRECTIONS = 8;
+        constexpr std::size_t TRIED = 6;
+        mSteps.clear();
+        for (const double step : STEPS) {
+            for (int k = 0; k < DIRECTIONS; ++k) {
+                const double a = 2.0 * M_PI * k / DIRECTIONS;
+                mMesh.points[v] = here + (e1 * std::cos(a) + e2 * std::sin(a)) * (step * reach);
+                mSteps.push_back({fanShape(v), mMesh.points[v]});
+            }
+        }
+        mMesh.points[v] = here;
+        std::stable_sort(mSteps.begin(), mSteps.end(),
+                         [](const Step& a, const Step& b) { return a.shape < b.shape; });
+        const std::size_t meetings = meetingsAround(v, &mMeetingHere);
+        for (std::size_t k = 0; k < TRIED && k < mSteps.size(); ++k) {
+            if (!mSteps[k].shape.isBetterThan(old)) break;
+            // Fewer sharp triangles at the price of a sharper one lowered the 1st percentile
+            // (monu16 at 4 voxels: 5.2 -> 1.0 degrees; 5.6 with this).
+            if (mSteps[k].shape.smallestCos > old.smallestCos) continue;
+            if (moveTo(v, mSteps[k].place, normal, meetings)) return true;
+        }
+        return false;
+    }
+
 private:
+    /// The shape of the triangles around @a v.
+    FanShape fanShape(std::uint32_t v) const
+    {
+        FanShape shape;
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            const openvdb::Vec3I& t = mMesh.triangles[mAround[i]];
+            double largestCos = -1.0;
+            for (int k = 0; k < 3; ++k) {
+                Vec3d a = mMesh.points[t[(k + 1) % 3]] - mMesh.points[t[k]];
+                Vec3d b = mMesh.points[t[(k + 2) % 3]] - mMesh.points[t[k]];
+                const double ab = std::sqrt(a.lengthSqr() * b.lengthSqr());
+                largestCos = std::max(largestCos, ab > 0.0 ? a.dot(b) / ab : 1.0);
+            }
+            shape.add(largestCos);
+        }
+        return shape;
+    }
+
     /// @brief Rounds of moveTogether() over the meeting pairs, updating @a meeting: a round
     /// looks at the pairs it found, all at first, then those of triangles that moved.
     void moveGroups(bool widened, std::vector<char>& active, Pairs& meeting)
@@ -551,6 +620,13 @@ private:
     /// The pairs meeting around the vertex moveCorner() moves, or the corners moveTogether()
     /// moves, before they move.
     Pairs mMeetingHere;
+    /// shapeFan()'s places tried, with the fan's shape there.
+    struct Step
+    {
+        FanShape shape;
+        Vec3d place;
+    };
+    std::vector<Step> mSteps;
     /// moveTogether()'s corners, where they were, and the triangles around them.
     std::vector<std::uint32_t> mGroup, mGroupTriangles;
     std::vector<Vec3d> mGroupPoints;
@@ -590,6 +666,17 @@ pullTowardsSource(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     Separation separation(mesh, movable, settings, nullptr);
     std::size_t moved = 0;
     for (const std::uint32_t v : far) moved += separation.pullTowardsSource(v);
+    return moved;
+}
+
+
+std::size_t
+shapeSharpFans(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+               const SeparationSettings& settings, const std::vector<std::uint32_t>& points)
+{
+    Separation separation(mesh, movable, settings, nullptr);
+    std::size_t moved = 0;
+    for (const std::uint32_t v : points) moved += separation.shapeFan(v);
     return moved;
 }
 

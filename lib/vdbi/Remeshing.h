@@ -77,7 +77,11 @@ struct RemeshStatistics
 /// 7. Where pairs are left, steps 5 and 6 run again with a bound of 0.5 voxel, then once
 ///    more with the inner curve samples moving too (junctions stay), each kept only if it
 ///    leaves fewer pairs.
-/// 8. Where pairs are still left, a free corner of a meeting triangle is collapsed into a
+/// 8. Free vertices of fans with an angle under 30 degrees step aside where their fans get
+///    better and no pair of triangles of any patches comes to meet, within 0.8 voxel of the
+///    voxel faces (shapeSharpFans(): the fans that step 4 left next to tight curves, where a
+///    patch cannot see the others, and those the reference surface's guards kept).
+/// 9. Where pairs are still left, a free corner of a meeting triangle is collapsed into a
 ///    neighbour where that leaves fewer (collapseMeetingEdges(): knots of one patch).
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys

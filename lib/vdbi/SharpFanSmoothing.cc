@@ -18,23 +18,8 @@ using VertexHandle = TriMesh::VertexHandle;
 using HalfedgeHandle = TriMesh::HalfedgeHandle;
 using FaceHandle = TriMesh::FaceHandle;
 
-/// A fan with an angle under this many degrees is smoothed.
-constexpr double SHARP_FAN_DEGREES = 30.0;
 /// Passes over the vertices (the last ones move few).
 constexpr int SHARP_FAN_PASSES = 5;
-
-/// How good a fan is: how many sharp triangles it has, then the cosine of its smallest angle.
-struct FanShape
-{
-    int sharp = 0;
-    double smallestCos = -1.0;
-
-    /// Fewer sharp triangles, or as many and a smallest angle larger by more than rounding.
-    bool isBetterThan(const FanShape& o) const
-    {
-        return sharp != o.sharp ? sharp < o.sharp : smallestCos < o.smallestCos - 1e-6;
-    }
-};
 
 /// The passes on one patch, with their scratch.
 class SharpFanSmoother
@@ -115,13 +100,10 @@ private:
 FanShape
 SharpFanSmoother::fanShape(VertexHandle v) const
 {
-    static const double sharpCos = std::cos(SHARP_TRIANGLE_DEGREES * M_PI / 180.0);
     FanShape shape;
     for (const FaceHandle f : mMesh.vf_range(v)) {
         const TrianglePoints t = triangle(f);
-        const double c = smallestAngleCos(t.a, t.b, t.c);
-        shape.sharp += c > sharpCos;
-        shape.smallestCos = std::max(shape.smallestCos, c);
+        shape.add(smallestAngleCos(t.a, t.b, t.c));
     }
     return shape;
 }
@@ -173,11 +155,8 @@ SharpFanSmoother::moves(VertexHandle v, const Point& normal, const FanShape& old
     }
     mMesh.set_point(v, p);
     // Exact comparisons here (a sort needs a strict weak order), with the margin below.
-    std::stable_sort(mMoves.begin(), mMoves.end(), [](const Move& a,
-                                                      const Move& b) {
-        return a.shape.sharp != b.shape.sharp ? a.shape.sharp < b.shape.sharp
-                                              : a.shape.smallestCos < b.shape.smallestCos;
-    });
+    std::stable_sort(mMoves.begin(), mMoves.end(),
+                     [](const Move& a, const Move& b) { return a.shape < b.shape; });
     mBestMoves.clear();
     for (const Move& m : mMoves) {
         if (mBestMoves.size() == TRIED || !m.shape.isBetterThan(old)) break;
@@ -207,7 +186,6 @@ SharpFanSmoother::smooth(bool aside)
     //   move may make a fan cross more: tried in many places, moves find folds at creases
     //   that the rounds' test (at sharp turns only) lets through (menger at 4 voxels). Fans
     //   next to a tight part of the boundary stay as they are (nextToTightBoundary()).
-    const double sharpCos = std::cos(SHARP_FAN_DEGREES * M_PI / 180.0);
     std::vector<Point> before(mMesh.n_vertices());
     for (const VertexHandle v : mMesh.vertices()) before[v.idx()] = mMesh.point(v);
     // The first pass looks at every vertex, the next ones only at those with a face that a
@@ -218,7 +196,7 @@ SharpFanSmoother::smooth(bool aside)
         for (const VertexHandle v : candidates) {
             if (mMesh.status(v).deleted() || !mPatch.isFree(v)) continue;
             const FanShape old = fanShape(v);
-            if (old.smallestCos <= sharpCos) continue;
+            if (!old.isSharp()) continue;
             if (aside && (nextToTightBoundary(v) || mFolds.fanCrossings(v) > 0)) continue;
             const Point p = mMesh.point(v), normal = mPatch.refNormal(v);
             const std::uint32_t startTriangle = mPatch.refTriangle(v);

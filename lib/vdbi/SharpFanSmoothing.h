@@ -6,14 +6,11 @@
 #ifndef VDBI_SHARP_FAN_SMOOTHING_HAS_BEEN_INCLUDED
 #define VDBI_SHARP_FAN_SMOOTHING_HAS_BEEN_INCLUDED
 
+#include <vdbi/FanShape.h>
 #include <vdbi/IsotropicRemeshing.h>
 #include <vdbi/ReferenceCoverage.h>
 
 namespace vdbi {
-
-/// A triangle with an angle under this many degrees is sharp: what the result is judged by
-/// (the target: fewer than 1 % of them).
-constexpr double SHARP_TRIANGLE_DEGREES = 25.0;
 
 /// @brief Moves the free vertices of fans with an angle under 30 degrees (onto the reference
 /// surface) where that makes the fan better and passes the guards of a projection: no fold,

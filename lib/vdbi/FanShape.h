@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file vdbi/FanShape.h
+/// @brief How well shaped the triangles around a vertex are, as the moves that shape sharp
+/// fans compare them.
+
+#ifndef VDBI_FAN_SHAPE_HAS_BEEN_INCLUDED
+#define VDBI_FAN_SHAPE_HAS_BEEN_INCLUDED
+
+#include <algorithm>
+#include <cmath>
+
+namespace vdbi {
+
+/// A triangle with an angle under this many degrees is sharp: what the result is judged by
+/// (the target: fewer than 1 % of them).
+constexpr double SHARP_TRIANGLE_DEGREES = 25.0;
+/// A fan with an angle under this many degrees is worth a move.
+constexpr double SHARP_FAN_DEGREES = 30.0;
+
+/// How good a fan is: how many sharp triangles it has, then the cosine of its smallest angle.
+struct FanShape
+{
+    int sharp = 0;
+    double smallestCos = -1.0;
+
+    /// Adds a triangle, by the cosine of its smallest angle.
+    void add(double triangleCos)
+    {
+        static const double sharpCos = std::cos(SHARP_TRIANGLE_DEGREES * M_PI / 180.0);
+        sharp += triangleCos > sharpCos;
+        smallestCos = std::max(smallestCos, triangleCos);
+    }
+    /// Has the fan an angle under SHARP_FAN_DEGREES?
+    bool isSharp() const
+    {
+        static const double fanCos = std::cos(SHARP_FAN_DEGREES * M_PI / 180.0);
+        return smallestCos > fanCos;
+    }
+    /// Fewer sharp triangles, or as many and a smallest angle larger by more than rounding.
+    bool isBetterThan(const FanShape& o) const
+    {
+        return sharp != o.sharp ? sharp < o.sharp : smallestCos < o.smallestCos - 1e-6;
+    }
+    /// A strict weak order for sorting, best first (exact, without the rounding margin).
+    bool operator<(const FanShape& o) const
+    {
+        return sharp != o.sharp ? sharp < o.sharp : smallestCos < o.smallestCos;
+    }
+};
+
+} // namespace vdbi
+
+#endif // VDBI_FAN_SHAPE_HAS_BEEN_INCLUDED
