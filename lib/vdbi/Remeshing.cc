@@ -254,6 +254,8 @@ shapeFansAcrossPatches(InterfaceMesh& mesh, std::vector<std::uint8_t> inner,
                        const TrianglePairs& left, RawPatchDistance& rawDistance,
                        const RemeshOptions& options, double smallestVoxel)
 {
+    // The points a last separation cycle split and did not keep are gone from the mesh.
+    inner.resize(mesh.points.size());
     for (const auto& [f, g] : left) {
         for (int k = 0; k < 3; ++k) inner[mesh.triangles[f][k]] = inner[mesh.triangles[g][k]] = 0;
     }
