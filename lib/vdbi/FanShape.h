@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace vdbi {
 
@@ -47,6 +48,26 @@ struct FanShape
         return sharp != o.sharp ? sharp < o.sharp : smallestCos < o.smallestCos;
     }
 };
+
+/// Of the steps aside forEachStepAside() makes, how many the dear guards check: the best.
+constexpr std::size_t STEPS_ASIDE_TRIED = 6;
+
+/// @brief Calls @a body(offset) for the pattern of steps aside that shape a sharp fan: 8
+/// directions in the plane of unit vectors @a e1 and @a e2 (the first along @a e1), at 0.3,
+/// 0.15 and 0.07 times @a reach (the mean distance to the neighbours), the longest first.
+template<typename Vec, typename Body>
+void
+forEachStepAside(const Vec& e1, const Vec& e2, double reach, const Body& body)
+{
+    static constexpr double STEPS[] = {0.3, 0.15, 0.07};
+    constexpr int DIRECTIONS = 8;
+    for (const double step : STEPS) {
+        for (int k = 0; k < DIRECTIONS; ++k) {
+            const double a = 2.0 * M_PI * k / DIRECTIONS;
+            body((e1 * std::cos(a) + e2 * std::sin(a)) * (step * reach));
+        }
+    }
+}
 
 } // namespace vdbi
 

@@ -119,10 +119,7 @@ SharpFanSmoother::moves(VertexHandle v, const Point& normal, const FanShape& old
     if (!aside) return mBestMoves;
     // The mean alone left most sharp fans as they were: where it is refused, or gains
     // nothing, a step aside often does. So a small pattern around the vertex, in its tangent
-    // plane: 8 directions, 3 step lengths.
-    static constexpr double STEPS[] = {0.3, 0.15, 0.07}; // times the mean neighbour distance
-    constexpr int DIRECTIONS = 8;
-    constexpr std::size_t TRIED = 6; // the guards are dear: only the best few are checked
+    // plane (forEachStepAside()).
     double reach = 0.0;
     int neighbours = 0;
     for (const VertexHandle w : mMesh.vv_range(v)) {
@@ -140,13 +137,8 @@ SharpFanSmoother::moves(VertexHandle v, const Point& normal, const FanShape& old
     const Point e2 = normal % e1;
     mMoves.clear();
     for (const Point& m : mBestMoves) mMoves.push_back({FanShape(), m});
-    for (const double step : STEPS) {
-        for (int k = 0; k < DIRECTIONS; ++k) {
-            const double a = 2.0 * M_PI * k / DIRECTIONS;
-            mMoves.push_back({FanShape(),
-                              (e1 * std::cos(a) + e2 * std::sin(a)) * (step * reach)});
-        }
-    }
+    forEachStepAside(e1, e2, reach,
+                     [&](const Point& move) { mMoves.push_back({FanShape(), move}); });
     // Ranked by the fan's shape with the vertex moved (before projection, which moves it
     // little); ties keep the order above, the mean first.
     for (Move& m : mMoves) {
@@ -159,7 +151,7 @@ SharpFanSmoother::moves(VertexHandle v, const Point& normal, const FanShape& old
                      [](const Move& a, const Move& b) { return a.shape < b.shape; });
     mBestMoves.clear();
     for (const Move& m : mMoves) {
-        if (mBestMoves.size() == TRIED || !m.shape.isBetterThan(old)) break;
+        if (mBestMoves.size() == STEPS_ASIDE_TRIED || !m.shape.isBetterThan(old)) break;
         mBestMoves.push_back(m.move);
     }
     return mBestMoves;
