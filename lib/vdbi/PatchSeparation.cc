@@ -4,6 +4,7 @@
 
 #include <vdbi/CandidateGrid.h>
 #include <vdbi/FanShape.h>
+#include <vdbi/GuardedMoves.h>
 #include <vdbi/TriangleCrossing.h>
 
 #include <algorithm>
@@ -39,45 +40,15 @@ latticeDirections()
 
 using Pairs = TrianglePairs;
 
-/// @a patches: those of the triangles [@a first, @a last), ascending (@a patchOf:
-/// trianglePatches()).
-void
-patchesOf(const std::uint32_t* first, const std::uint32_t* last,
-          const std::vector<std::uint32_t>& patchOf, std::vector<std::uint32_t>& patches)
-{
-    patches.clear();
-    for (const std::uint32_t* i = first; i != last; ++i) patches.push_back(patchOf[*i]);
-    std::sort(patches.begin(), patches.end());
-    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
-}
-
-/// patchesOf() the triangles around point @a v (@a first and @a around:
-/// trianglesAroundPoints()).
-void
-patchesAround(std::uint32_t v, const std::vector<std::uint32_t>& first,
-              const std::vector<std::uint32_t>& around, const std::vector<std::uint32_t>& patchOf,
-              std::vector<std::uint32_t>& patches)
-{
-    patchesOf(around.data() + first[v], around.data() + first[v + 1], patchOf, patches);
-}
-
-/// @brief The state of separatePatches(): the triangles around every point, the candidate
-/// grid, and where every point started.
-class Separation
+/// @brief The passes of this file: separatePatches()' rounds, and the moves of
+/// pullTowardsSource() and shapeSharpFans().
+class Separation : public GuardedMoves
 {
 public:
     Separation(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                const SeparationSettings& settings, const PointArray* start)
-        : mMesh(mesh), mMovable(movable), mSettings(settings)
-        , mOwnOrigin(start ? PointArray() : mesh.points)
-        , mOrigin(start ? *start : mOwnOrigin)
-        , mPatchOf(trianglePatches(mesh))
-        , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
+        : GuardedMoves(mesh, movable, settings, start)
     {
-        trianglesAroundPoints(mesh, mStart, mAround);
-        if (settings.source) {
-            mStartDistance.assign(mesh.points.size(), std::numeric_limits<double>::quiet_NaN());
-        }
     }
 
     /// The rounds; returns every pair of triangles meeting after them, ascending.
@@ -206,24 +177,6 @@ public:
     }
 
 private:
-    /// The shape of the triangles around @a v.
-    FanShape fanShape(std::uint32_t v) const
-    {
-        FanShape shape;
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            const openvdb::Vec3I& t = mMesh.triangles[mAround[i]];
-            double largestCos = -1.0;
-            for (int k = 0; k < 3; ++k) {
-                Vec3d a = mMesh.points[t[(k + 1) % 3]] - mMesh.points[t[k]];
-                Vec3d b = mMesh.points[t[(k + 2) % 3]] - mMesh.points[t[k]];
-                const double ab = std::sqrt(a.lengthSqr() * b.lengthSqr());
-                largestCos = std::max(largestCos, ab > 0.0 ? a.dot(b) / ab : 1.0);
-            }
-            shape.add(largestCos);
-        }
-        return shape;
-    }
-
     /// @brief Rounds of moveTogether() over the meeting pairs, updating @a meeting: a round
     /// looks at the pairs it found, all at first, then those of triangles that moved.
     void moveGroups(bool widened, std::vector<char>& active, Pairs& meeting)
@@ -284,79 +237,6 @@ private:
         return 0;
     }
 
-    Vec3d faceNormal(std::uint32_t f) const
-    {
-        const openvdb::Vec3I& t = mMesh.triangles[f];
-        const PointArray& points = mMesh.points;
-        return (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
-    }
-
-    /// Pairs that meet among the triangles around @a v and those near them (TriangleCrossing.h's
-    /// test, pairs within one patch too): a move may not add any.
-    /// @param pairs  if given, set to those pairs
-    std::size_t meetingsAround(std::uint32_t v, Pairs* pairs = nullptr) const
-    {
-        return meetingsAmong(mAround.data() + mStart[v], mAround.data() + mStart[v + 1], pairs);
-    }
-
-    /// Pairs that meet among the triangles [first, last) and those near them, each once.
-    std::size_t meetingsAmong(const std::uint32_t* first, const std::uint32_t* last,
-                              Pairs* pairs) const
-    {
-        if (pairs) pairs->clear();
-        std::size_t count = 0;
-        for (const std::uint32_t* i = first; i != last; ++i) {
-            const std::uint32_t f = *i;
-            mGrid.forEachNeighbour(f, [&](std::uint32_t g) {
-                // A pair of two of the triangles is counted from the smaller one.
-                if (g < f && std::find(first, last, g) != last) return;
-                if (!trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g])) return;
-                ++count;
-                if (pairs) pairs->emplace_back(f, g);
-            });
-        }
-        return count;
-    }
-
-    /// Does one of the pairs that met around the vertex being moved (mMeetingHere) no longer
-    /// meet? Else no move of it leaves fewer meeting pairs: the full count is not needed.
-    bool freesAPair() const
-    {
-        for (const auto& [f, g] : mMeetingHere) {
-            if (!trianglesMeet(mMesh.points, mMesh.triangles[f], mMesh.triangles[g])) return true;
-        }
-        return false;
-    }
-
-    /// @brief Moves @a v to @a next if that leaves at most @a limit meeting pairs around it,
-    /// keeps it within maxMove of its start and turns no triangle around it over.
-    /// @details A triangle that faced against the vertex normal @a normal (a fold, or no
-    /// area) may turn to face with it: that is how a folded fan opens.
-    bool moveTo(std::uint32_t v, const Vec3d& next, const Vec3d& normal, std::size_t limit)
-    {
-        if (!withinReach(v, next)) return false;
-        mBefore.clear();
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            mBefore.push_back(faceNormal(mAround[i]));
-        }
-        const Vec3d old = mMesh.points[v];
-        mMesh.points[v] = next;
-        bool turned = false;
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1] && !turned; ++i) {
-            const Vec3d& before = mBefore[i - mStart[v]];
-            const Vec3d after = faceNormal(mAround[i]);
-            turned = !(after.dot(before) > 0.0)
-                && !(before.dot(normal) <= 0.0 && after.dot(normal) > 0.0);
-        }
-        mMovedFrom.assign(1, {v, old});
-        if (turned || (limit < mMeetingHere.size() && !freesAPair())
-            || meetingsAround(v) > limit
-            || !keepsSourceCovered(mAround.data() + mStart[v], mAround.data() + mStart[v + 1])) {
-            mMesh.points[v] = old;
-            return false;
-        }
-        return true;
-    }
 
     /// @brief Moves corner @a v of meeting pairs, pushed @a direction times away from shared
     /// labels, to the first of these that leaves fewer meeting pairs around it: one step
@@ -494,126 +374,6 @@ private:
         return false;
     }
 
-    /// Is @a p within maxMove of where @a v started, and close enough to its source?
-    bool withinReach(std::uint32_t v, const Vec3d& p)
-    {
-        const double moved = (p - mOrigin[v]).length();
-        return moved <= mSettings.maxMove && keepsClose(v, p, moved);
-    }
-
-    /// @brief Is @a p, @a moved away from where @a v started, within sourceLimit of the
-    /// source of @a v's patches, or no farther than the start?
-    /// @details The start's distance is asked once; a place whose distance that bounds by
-    /// the triangle inequality needs no query.
-    bool keepsClose(std::uint32_t v, const Vec3d& p, double moved)
-    {
-        if (!mSettings.source) return true;
-        collectPatchesAround(v);
-        double& atStart = mStartDistance[v];
-        if (std::isnan(atStart)) {
-            atStart = mSettings.source->farthest(mOrigin[v], mPatchesHere).distance;
-        }
-        const double allowed = std::max(mSettings.sourceLimit, atStart);
-        if (atStart + moved / mSettings.sourceUnit <= allowed) return true;
-        return mSettings.source->farthest(p, mPatchesHere).distance <= allowed;
-    }
-
-    /// @brief Do the triangles [@a first, @a last), changed by a move of the points in
-    /// mMovedFrom (with their positions before), still pass within sourceLimit of every
-    /// centroid of their patches' source triangles that they passed within it before, or
-    /// does another triangle of the patch?
-    /// @details A move that keeps the point itself close to the faces (keepsClose()) may
-    /// still take the triangles around it off the faces of a thin tip, as a flip across the
-    /// tip does (MeetingEdgeFlips.h).
-    bool keepsSourceCovered(const std::uint32_t* first, const std::uint32_t* last)
-    {
-        RawPatchDistance* source = mSettings.source;
-        if (!source) return true;
-        patchesOf(first, last, mPatchOf, mPatchesMoved);
-        const double limit = mSettings.sourceLimit;
-        for (const std::uint32_t patch : mPatchesMoved) {
-            mNow.clear();
-            mThen.clear();
-            for (const std::uint32_t* i = first; i != last; ++i) {
-                if (mPatchOf[*i] != patch) continue;
-                const openvdb::Vec3I& t = mMesh.triangles[*i];
-                mNow.push_back(source->corners(mMesh.points, t));
-                RawPatchDistance::Corners& then = mThen.emplace_back(mNow.back());
-                for (int k = 0; k < 3; ++k) {
-                    for (const auto& [w, q] : mMovedFrom) {
-                        if (w == t[k]) then.c[k] = source->scaled(q);
-                    }
-                }
-            }
-            // Every triangle within the limit of q has its box (the grid's, widened by
-            // maxMove) in the cells of q's box.
-            auto coveredElsewhere = [&](const Vec3d& q) {
-                bool covered = false;
-                mGrid.forEachInBox(source->world(q - Vec3d(limit)),
-                                   source->world(q + Vec3d(limit)), [&](std::uint32_t g) {
-                    covered = covered
-                        || (mPatchOf[g] == patch
-                            && RawPatchDistance::isWithin(
-                                q, source->corners(mMesh.points, mMesh.triangles[g]), limit));
-                });
-                return covered;
-            };
-            if (!source->keepsCovered(patch, mThen, mNow, limit, coveredElsewhere)) return false;
-        }
-        return true;
-    }
-
-    /// mPatchesHere: the patches of the triangles around @a v, ascending.
-    void collectPatchesAround(std::uint32_t v)
-    {
-        patchesAround(v, mStart, mAround, mPatchOf, mPatchesHere);
-    }
-
-    /// The sum of the (area-weighted) normals of the triangles around @a v.
-    Vec3d vertexNormal(std::uint32_t v) const
-    {
-        Vec3d normal(0.0);
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            normal += faceNormal(mAround[i]);
-        }
-        return normal;
-    }
-
-    /// The mean of the other corners of the triangles around @a v, pulled back to within
-    /// maxMove of where @a v started.
-    Vec3d towardsNeighbours(std::uint32_t v) const
-    {
-        Vec3d sum(0.0);
-        double weight = 0.0;
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            const openvdb::Vec3I& t = mMesh.triangles[mAround[i]];
-            for (int k = 0; k < 3; ++k) {
-                if (t[k] == v) continue;
-                sum += mMesh.points[t[k]];
-                weight += 1.0;
-            }
-        }
-        if (weight == 0.0) return mMesh.points[v];
-        const Vec3d offset = sum / weight - mOrigin[v];
-        const double distance = offset.length();
-        if (distance <= mSettings.maxMove) return mOrigin[v] + offset;
-        return mOrigin[v] + offset * (mSettings.maxMove / distance);
-    }
-
-    InterfaceMesh& mMesh;
-    const std::vector<std::uint8_t>& mMovable;
-    const SeparationSettings& mSettings;
-    /// Where every point started: the caller's, or a copy of the points.
-    const PointArray mOwnOrigin;
-    const PointArray& mOrigin;
-    std::vector<std::uint32_t> mPatchOf;
-    const CandidateGrid mGrid;
-    /// Triangles around every point: mAround[mStart[v] .. mStart[v + 1]).
-    std::vector<std::uint32_t> mStart, mAround;
-    std::vector<Vec3d> mBefore;
-    /// The pairs meeting around the vertex moveCorner() moves, or the corners moveTogether()
-    /// moves, before they move.
-    Pairs mMeetingHere;
     /// shapeFan()'s places tried, with the fan's shape there.
     struct Step
     {
@@ -626,15 +386,6 @@ private:
     std::vector<Vec3d> mGroupPoints;
     /// Per triangle: in a meeting pair (set at the start of every widened round).
     std::vector<char> mIsMeeting;
-    /// Per point, its start's distance to its source (NaN until asked), and keepsClose()'s
-    /// patches.
-    std::vector<double> mStartDistance;
-    std::vector<std::uint32_t> mPatchesHere;
-    /// keepsSourceCovered()'s: the points moved and where they were; the changed triangles
-    /// of one patch now and before, in voxel units; the patches of the changed triangles.
-    std::vector<std::pair<std::uint32_t, Vec3d>> mMovedFrom;
-    std::vector<std::uint32_t> mPatchesMoved;
-    std::vector<RawPatchDistance::Corners> mNow, mThen;
 };
 
 } // namespace
