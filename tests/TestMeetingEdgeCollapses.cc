@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file TestMeetingEdgeCollapses.cc
 /// @brief collapseMeetingEdges() on a hand-made knot, judged by the independent intersection
-/// checker (support/MeshIntersections.h) and by the triangles it leaves.
+/// checker (support/MeshIntersections.h) and by the triangles it leaves; and
+/// collapseMeetingAndShortEdges() on hand-made short edges, with each of its guards.
 
 #include "support/HandMadeMeshes.h"
 #include "support/MeshIntersections.h"
@@ -208,4 +209,164 @@ TEST(TestMeetingEdgeCollapses, testNothingToDo)
     EXPECT_EQ(vdbi::collapseMeetingEdges(mesh, tentMovable(true), 1.0, true, {}, &left), 0u);
     EXPECT_TRUE(left.empty());
     EXPECT_EQ(mesh.triangles, tentThroughTriangle().triangles);
+}
+
+namespace {
+
+/// The fixed hexagon of radius 2 in the plane z = 0 (points 0-5, counterclockwise from
+/// (2, 0, 0)), and @a inner free points after them.
+std::vector<Vec3d>
+hexagonWith(const std::vector<Vec3d>& inner)
+{
+    std::vector<Vec3d> points;
+    for (int k = 0; k < 6; ++k) {
+        const double angle = k * M_PI / 3.0;
+        points.emplace_back(2.0 * std::cos(angle), 2.0 * std::sin(angle), 0.0);
+    }
+    points.insert(points.end(), inner.begin(), inner.end());
+    return points;
+}
+
+/// Settings for the hand-made meshes: short under 0.5, long over @a longLength.
+vdbi::ShortEdgeCollapseSettings
+shortEdgeSettings(double longLength)
+{
+    vdbi::ShortEdgeCollapseSettings settings;
+    settings.shortLength = 0.5;
+    settings.longLength = longLength;
+    settings.cellSize = 1.0;
+    settings.threaded = false;
+    return settings;
+}
+
+/// The lengths of the edges of @a mesh, each once.
+std::vector<double>
+edgeLengths(const vdbi::InterfaceMesh& mesh)
+{
+    std::map<std::pair<unsigned, unsigned>, double> edges;
+    for (const Vec3I& t : mesh.triangles) {
+        for (int i = 0; i < 3; ++i) {
+            const unsigned a = std::min(t[i], t[(i + 1) % 3]), b = std::max(t[i], t[(i + 1) % 3]);
+            edges[{a, b}] = (mesh.points[a] - mesh.points[b]).length();
+        }
+    }
+    std::vector<double> lengths;
+    for (const auto& edge : edges) lengths.push_back(edge.second);
+    return lengths;
+}
+
+} // namespace
+
+// The hexagon filled around two free points 0.2 apart at its centre: the short edge between
+// them collapses, both going to its midpoint (the best fan: six triangles of 60 degrees), if
+// the edges to the hexagon (2.0 then) may be that long; and not if they may not or the two
+// points are fixed.
+TEST(TestMeetingEdgeCollapses, testShortEdgeCollapsesToTheBestFan)
+{
+    const unsigned a = 6, b = 7;   // (-0.1, 0, 0) and (0.1, 0, 0)
+    const std::vector<Vec3I> fill = {Vec3I(b, 0, 1), Vec3I(b, 5, 0), Vec3I(b, 1, a),
+                                     Vec3I(a, 1, 2), Vec3I(a, 2, 3), Vec3I(a, 3, 4),
+                                     Vec3I(a, 4, b), Vec3I(b, 4, 5)};
+    auto makeHexagon = [&] {
+        return vdbi_test::makeMesh(hexagonWith({Vec3d(-0.1, 0, 0), Vec3d(0.1, 0, 0)}),
+                                   {{1, 2, fill}});
+    };
+    std::vector<std::uint8_t> movable = {0, 0, 0, 0, 0, 0, 1, 1};
+
+    vdbi::InterfaceMesh mesh = makeHexagon();
+    EXPECT_EQ(vdbi::collapseMeetingAndShortEdges(mesh, movable, shortEdgeSettings(2.5), {}), 1u);
+    ASSERT_EQ(mesh.points.size(), 7u);
+    EXPECT_EQ(mesh.points[6], Vec3d(0, 0, 0));
+    ASSERT_EQ(mesh.triangles.size(), 6u);
+    EXPECT_EQ(mesh.patches[0].triangleCount, 6u);
+    EXPECT_TRUE(isOrientedManifold(mesh));
+    for (const Vec3I& t : mesh.triangles) {
+        const Vec3d n = (mesh.points[t[1]] - mesh.points[t[0]])
+                            .cross(mesh.points[t[2]] - mesh.points[t[0]]);
+        EXPECT_GT(n[2], 0.0);
+    }
+    for (const double length : edgeLengths(mesh)) EXPECT_NEAR(length, 2.0, 1e-12);
+
+    // Edges of 2.0 not allowed: nothing changes.
+    mesh = makeHexagon();
+    EXPECT_EQ(vdbi::collapseMeetingAndShortEdges(mesh, movable, shortEdgeSettings(1.9), {}), 0u);
+    EXPECT_EQ(mesh.triangles, makeHexagon().triangles);
+    EXPECT_EQ(mesh.points, makeHexagon().points);
+
+    // Both fixed (curve samples): nothing changes.
+    mesh = makeHexagon();
+    movable[a] = movable[b] = 0;
+    EXPECT_EQ(vdbi::collapseMeetingAndShortEdges(mesh, movable, shortEdgeSettings(2.5), {}), 0u);
+    EXPECT_EQ(mesh.triangles, makeHexagon().triangles);
+}
+
+// A free point 0.25 from hexagon point 0, joined to points 5, 0, 1 and 2 and to a free centre:
+// its collapse into point 0 makes the new inner edge (0, 2) between two fixed points, which
+// only the patch that may have it makes (mayJoinFixed: the chord owner). The fan it leaves
+// has no angle under 30 degrees.
+TEST(TestMeetingEdgeCollapses, testShortEdgeJoinsFixedPointsOnlyWhereAllowed)
+{
+    const unsigned a = 6, c = 7;   // (1.75, 0, 0) and the centre
+    const std::vector<Vec3I> fill = {Vec3I(a, 0, 1), Vec3I(a, 5, 0), Vec3I(a, 1, 2),
+                                     Vec3I(a, 2, c), Vec3I(a, c, 5), Vec3I(c, 2, 3),
+                                     Vec3I(c, 3, 4), Vec3I(c, 4, 5)};
+    auto makeHexagon = [&] {
+        return vdbi_test::makeMesh(hexagonWith({Vec3d(1.75, 0, 0), Vec3d(0, 0, 0)}),
+                                   {{1, 2, fill}});
+    };
+    const std::vector<std::uint8_t> movable = {0, 0, 0, 0, 0, 0, 1, 1};
+    std::vector<std::vector<std::uint32_t>> asked;
+    vdbi::ShortEdgeCollapseSettings settings = shortEdgeSettings(4.0);
+    settings.mayJoinFixed = [&](std::uint32_t patch, std::uint32_t u, std::uint32_t v) {
+        asked.push_back({patch, u, v});
+        return false;
+    };
+
+    vdbi::InterfaceMesh mesh = makeHexagon();
+    EXPECT_EQ(vdbi::collapseMeetingAndShortEdges(mesh, movable, settings, {}), 0u);
+    EXPECT_EQ(mesh.triangles, makeHexagon().triangles);
+    ASSERT_FALSE(asked.empty());
+    EXPECT_EQ(asked.front(), (std::vector<std::uint32_t>{0, 0, 2}));
+
+    settings.mayJoinFixed = [](std::uint32_t, std::uint32_t, std::uint32_t) { return true; };
+    EXPECT_EQ(vdbi::collapseMeetingAndShortEdges(mesh, movable, settings, {}), 1u);
+    ASSERT_EQ(mesh.points.size(), 7u);   // the centre is point 6 now
+    EXPECT_EQ(mesh.points[6], Vec3d(0, 0, 0));
+    EXPECT_TRUE(isOrientedManifold(mesh));
+    std::vector<Vec3I> sorted;
+    for (Vec3I t : mesh.triangles) {
+        std::sort(t.asPointer(), t.asPointer() + 3);
+        sorted.push_back(t);
+    }
+    for (const Vec3I& t : {Vec3I(0, 1, 2), Vec3I(0, 2, 6), Vec3I(0, 5, 6)}) {
+        EXPECT_NE(std::find(sorted.begin(), sorted.end(), t), sorted.end()) << t;
+    }
+    for (const Vec3I& t : mesh.triangles) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d e1 = mesh.points[t[(k + 1) % 3]] - mesh.points[t[k]];
+            const Vec3d e2 = mesh.points[t[(k + 2) % 3]] - mesh.points[t[k]];
+            EXPECT_GE(std::acos(e1.dot(e2) / (e1.length() * e2.length())) * 180.0 / M_PI,
+                      30.0 - 1e-9);
+        }
+    }
+}
+
+// Two patches on one loop of three fixed points, a lens: each has a free centre 0.33 from
+// corner 0, above and below. Collapsing a centre leaves the patch as the triangle of the
+// loop; only one of them may: two would be the same triangle (which meets itself).
+TEST(TestMeetingEdgeCollapses, testLoopOfThreeBecomesOneTriangleOnce)
+{
+    const std::vector<Vec3d> points = {Vec3d(0, 0, 0), Vec3d(2, 0, 0), Vec3d(0, 2, 0),
+                                       Vec3d(0.1, 0.1, 0.3), Vec3d(0.1, 0.1, -0.3)};
+    vdbi::InterfaceMesh mesh = vdbi_test::makeMesh(
+        points, {{1, 2, {Vec3I(3, 0, 1), Vec3I(3, 1, 2), Vec3I(3, 2, 0)}},
+                 {2, 3, {Vec3I(4, 1, 0), Vec3I(4, 2, 1), Vec3I(4, 0, 2)}}});
+    ASSERT_TRUE(pairsOf(mesh).empty());
+    const std::vector<std::uint8_t> movable = {0, 0, 0, 1, 1};
+    EXPECT_EQ(vdbi::collapseMeetingAndShortEdges(mesh, movable, shortEdgeSettings(3.0), {}), 1u);
+    ASSERT_EQ(mesh.patches.size(), 2u);
+    EXPECT_EQ(mesh.patches[0].triangleCount + mesh.patches[1].triangleCount, 4u);
+    EXPECT_EQ(std::min(mesh.patches[0].triangleCount, mesh.patches[1].triangleCount), 1u);
+    EXPECT_EQ(mesh.points.size(), 4u);
+    EXPECT_TRUE(pairsOf(mesh).empty());
 }

@@ -268,7 +268,7 @@ checkRemeshing(const std::string& name, const vdbi::InterfaceMesh& raw, double t
 /// by the independent checker; the smallest angles' 1st percentile at least @a minAngleP1
 /// degrees; closeness within one voxel both ways (measureCloseness()).
 void
-checkFrog(double voxels, double minAngleP1 = 0.0)
+checkFrog(double voxels, double minAngleP1 = 0.0, double minInRange = 0.0)
 {
     const auto frog = vdbi::readLabelVolume(vdbi_test::dataPath("frogtissue.mhd"));
     const vdbi::InterfaceMesh raw = extract(*frog);
@@ -284,6 +284,7 @@ checkFrog(double voxels, double minAngleP1 = 0.0)
     const vdbi_test::MeshQuality quality = vdbi_test::measureMeshQuality(out, options.edgeLength);
     std::printf("[ frog, %g voxels ] %s\n", voxels, quality.summary().c_str());
     EXPECT_GE(quality.angleP1, minAngleP1);
+    EXPECT_GE(quality.inRange, minInRange);
     const vdbi_test::Closeness c = vdbi_test::measureCloseness(raw, out, frog->voxelSize());
     std::printf("[ frog, %g voxels ] remeshed->raw %.3f, face centre->remeshed %.3f (raw "
                 "centroids %.3f) voxels\n", voxels, c.vertexToRaw, c.faceCentreToOutput,
@@ -682,9 +683,11 @@ TEST_F(TestRemeshing, testFrogAtOneVoxel)
 // 22.5 with steps aside also next to the curves where the boundary is not tight, 23.2 with
 // the chords between curve samples given to the patch they run into, 26.0 with the sharp fans
 // shaped again after separation, with every patch in sight (the target is 25).
+// Edges in [0.5, 1.5] x target: 98.10 % before the short edges were collapsed after
+// separation, with every patch in sight, 99.02 % with (the target is 99 %).
 TEST_F(TestRemeshing, testFrogAtTwoVoxels)
 {
-    checkFrog(2.0, 25.0);
+    checkFrog(2.0, 25.0, 0.99);
 }
 
 // At four voxels: 39 pairs were left while the first round collapsed straight from the

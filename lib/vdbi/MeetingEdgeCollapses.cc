@@ -2,10 +2,14 @@
 
 #include <vdbi/MeetingEdgeCollapses.h>
 
+#include <vdbi/FanShape.h>
 #include <vdbi/TriangleCrossing.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <tuple>
+#include <unordered_map>
 
 namespace vdbi {
 
@@ -52,14 +56,17 @@ class EdgeCollapser
 public:
     EdgeCollapser(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                   double cellSize, bool threaded)
-        : mMesh(mesh), mMovable(movable), mGrid(mesh, cellSize, 0.0, threaded)
+        : mMesh(mesh), mMovable(movable), mInverseCell(1.0 / cellSize)
+        , mGrid(mesh, cellSize, 0.0, threaded)
         , mPatchOf(trianglePatches(mesh)), mRemoved(mesh.triangles.size(), 0)
         , mChanged(mesh.points.size(), 0)
     {
         findAround();
     }
 
-    std::size_t run(const TrianglePairs& pairs, TrianglePairs* left)
+    /// @param shortEdges  if given, collapseShort() with it after the meeting triangles
+    std::size_t run(const TrianglePairs& pairs, TrianglePairs* left,
+                    const ShortEdgeCollapseSettings* shortEdges)
     {
         std::vector<std::uint32_t> meeting;
         for (const auto& [f, g] : pairs) meeting.insert(meeting.end(), {f, g});
@@ -119,6 +126,7 @@ public:
                 }
             }
         }
+        if (shortEdges) collapses += collapseShort(*shortEdges);
         if (collapses > 0) compact(stillMeeting);
         if (left) {
             std::sort(stillMeeting.begin(), stillMeeting.end());
@@ -130,6 +138,181 @@ public:
     }
 
 private:
+    /// @brief Passes over the edges shorter than settings.shortLength, shortest first, each
+    /// collapsed the best way collapseShortEdge() allows; a pass after the first looks at the
+    /// edges around the points the one before changed.
+    std::size_t collapseShort(const ShortEdgeCollapseSettings& settings)
+    {
+        mShort = &settings;
+        std::size_t collapses = 0;
+        std::vector<std::uint32_t> changedPoints;
+        for (int pass = 0; pass < PASSES; ++pass) {
+            findAround();
+            std::fill(mChanged.begin(), mChanged.end(), 0);
+            findShortEdges(pass == 0, changedPoints, settings.shortLength);
+            const std::size_t before = collapses;
+            for (const auto& [length2, a, b] : mShortEdges) {
+                if (!mChanged[a] && !mChanged[b] && collapseShortEdge(a, b, settings)) {
+                    ++collapses;
+                }
+            }
+            if (collapses == before) break;
+            changedPoints.clear();
+            for (std::uint32_t v = 0; v < mChanged.size(); ++v) {
+                if (mChanged[v]) changedPoints.push_back(v);
+            }
+        }
+        mShort = nullptr;
+        return collapses;
+    }
+
+    /// @brief mShortEdges: the edges shorter than @a length with a free end, of all
+    /// triangles or of those around @a points, shortest first.
+    void findShortEdges(bool all, const std::vector<std::uint32_t>& points, double length)
+    {
+        mShortEdges.clear();
+        auto addEdges = [&](std::uint32_t f) {
+            const Vec3I& t = mMesh.triangles[f];
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t a = std::min(t[k], t[(k + 1) % 3]);
+                const std::uint32_t b = std::max(t[k], t[(k + 1) % 3]);
+                if (!mMovable[a] && !mMovable[b]) continue;
+                const double length2 = (mMesh.points[a] - mMesh.points[b]).lengthSqr();
+                if (length2 < length * length) mShortEdges.emplace_back(length2, a, b);
+            }
+        };
+        if (all) {
+            for (std::uint32_t f = 0; f < mMesh.triangles.size(); ++f) {
+                if (!mRemoved[f]) addEdges(f);
+            }
+        } else {
+            for (const std::uint32_t v : points) {
+                for (std::uint32_t k = mFirst[v]; k < mFirst[v + 1]; ++k) addEdges(mAround[k]);
+            }
+        }
+        std::sort(mShortEdges.begin(), mShortEdges.end());
+        mShortEdges.erase(std::unique(mShortEdges.begin(), mShortEdges.end()), mShortEdges.end());
+    }
+
+    /// @brief Collapses edge (@a a, @a b) the best way allowed, if any; true if it did.
+    /// @details Each free end u may go into the other, v, which stays, or, if free too, moves
+    /// to the midpoint or to u. Allowed as prepareCollapse() allows (a new inner edge may join
+    /// two fixed points where settings.mayJoinFixed does), and if no new edge is longer than
+    /// settings.longLength, no triangle turns over, the triangles around u and v meet no
+    /// other before and after, the fan has no more sharp triangles and no smaller smallest
+    /// angle (unless that stays above SHARP_TRIANGLE_DEGREES), and keepsSourceClose(). Of
+    /// the allowed, the best fan (FanShape).
+    bool collapseShortEdge(std::uint32_t a, std::uint32_t b,
+                           const ShortEdgeCollapseSettings& settings)
+    {
+        static const double sharpCos = std::cos(SHARP_TRIANGLE_DEGREES * M_PI / 180.0);
+        const double long2 = settings.longLength * settings.longLength;
+        // The ways the cheap tests allow, then the dear ones on them, best fan first.
+        mWays.clear();
+        for (const auto& [u, v] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+            if (!mMovable[u]) continue;
+            neighbours(u, mRing);
+            if (!prepareCollapse(u, v) || meetingPairs(mOld, 1) > 0) continue;
+            const FanShape old = shapeOf(mOld);
+            const double allowedCos = std::max(old.smallestCos, sharpCos);
+            neighbours(v, mRingOfV);
+            const Vec3d pu = mMesh.points[u], pv = mMesh.points[v];
+            const Vec3d places[3] = {pv, (pu + pv) * 0.5, pu};
+            for (int i = 0; i < (mMovable[v] ? 3 : 1); ++i) {
+                const Vec3d& p = places[i];
+                bool tooLong = false;
+                for (const auto* ring : {&mRing, &mRingOfV}) {
+                    for (const std::uint32_t w : *ring) {
+                        tooLong = tooLong
+                            || (w != u && w != v && (mMesh.points[w] - p).lengthSqr() > long2);
+                    }
+                }
+                if (tooLong) continue;
+                mMesh.points[v] = p;
+                const FanShape now = shapeOf(mNew);
+                bool turned = false;
+                for (std::size_t k = 0; k < mNew.size(); ++k) {
+                    turned = turned || !(normalOf(mNew[k]).dot(mNewBefore[k]) > 0.0);
+                }
+                mMesh.points[v] = pv;
+                if (turned || now.sharp > old.sharp || now.smallestCos > allowedCos) continue;
+                mWays.push_back({now, {u, v, p, 0}});
+            }
+        }
+        std::stable_sort(mWays.begin(), mWays.end(),
+                         [](const Way& x, const Way& y) { return x.shape < y.shape; });
+        for (std::size_t k = 0; k < mWays.size(); ++k) {
+            const Collapse& c = mWays[k].collapse;
+            neighbours(c.u, mRing);
+            prepareCollapse(c.u, c.v);
+            if (pairsAfter(c.v, c.position, 1) != 0) continue;
+            if (settings.source && !keepsSourceClose(c.u, c.v, c.position, settings)) continue;
+            apply(c);
+            return true;
+        }
+        return false;
+    }
+
+    /// The shape of @a triangles together, as FanShape counts it.
+    FanShape shapeOf(const std::vector<Vec3I>& triangles) const
+    {
+        FanShape shape;
+        for (const Vec3I& t : triangles) {
+            double largestCos = -1.0;
+            for (int k = 0; k < 3; ++k) {
+                const Vec3d a = mMesh.points[t[(k + 1) % 3]] - mMesh.points[t[k]];
+                const Vec3d b = mMesh.points[t[(k + 2) % 3]] - mMesh.points[t[k]];
+                const double ab = std::sqrt(a.lengthSqr() * b.lengthSqr());
+                largestCos = std::max(largestCos, ab > 0.0 ? a.dot(b) / ab : 1.0);
+            }
+            shape.add(largestCos);
+        }
+        return shape;
+    }
+
+    Vec3d normalOf(const Vec3I& t) const
+    {
+        const PointArray& p = mMesh.points;
+        return (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
+    }
+
+    /// @brief With v at @a p instead of u (mOld -> mNew): is @a p within settings.sourceLimit
+    /// of the patch's source if v moves, and does RawPatchDistance::keepsCovered() hold for
+    /// the patch's changed triangles?
+    bool keepsSourceClose(std::uint32_t u, std::uint32_t v, const Vec3d& p,
+                          const ShortEdgeCollapseSettings& settings)
+    {
+        RawPatchDistance& source = *settings.source;
+        const double limit = settings.sourceLimit;
+        const std::uint32_t patch = mPatchOf[mAround[mFirst[u]]];
+        mPatches.assign(1, patch);
+        const Vec3d pv = mMesh.points[v];
+        if (p != pv && source.farthest(p, mPatches).distance > limit) return false;
+        mThen.clear();
+        mNow.clear();
+        for (std::size_t k = 0; k < mOld.size(); ++k) {
+            if (mOldPatch[k] == patch) mThen.push_back(source.corners(mMesh.points, mOld[k]));
+        }
+        mMesh.points[v] = p;
+        for (std::size_t k = 0; k < mNew.size(); ++k) {
+            if (mNewPatch[k] == patch) mNow.push_back(source.corners(mMesh.points, mNew[k]));
+        }
+        mMesh.points[v] = pv;
+        auto coveredElsewhere = [&](const Vec3d& q) {
+            bool covered = false;
+            const Box box{source.world(q - Vec3d(limit)), source.world(q + Vec3d(limit))};
+            forEachNear(box, [&](std::uint32_t g) {
+                const Vec3I& t = mMesh.triangles[g];
+                covered = covered
+                    || (!mRemoved[g] && mPatchOf[g] == patch && !hasCorner(t, u)
+                        && !hasCorner(t, v)
+                        && RawPatchDistance::isWithin(q, source.corners(mMesh.points, t), limit));
+            });
+            return covered;
+        };
+        return source.keepsCovered(patch, mThen, mNow, limit, coveredElsewhere);
+    }
+
     /// The triangles around every point, of those not removed.
     void findAround() { trianglesAroundPoints(mMesh, mFirst, mAround, &mRemoved); }
 
@@ -201,7 +384,8 @@ private:
         }
         if (!mMovable[v]) {
             for (const std::uint32_t w : mRing) {
-                if (w != v && w != across[0] && w != across[1] && !mMovable[w]) return false;
+                if (w == v || w == across[0] || w == across[1] || mMovable[w]) continue;
+                if (!mShort || !mShort->mayJoinFixed(patch, v, w)) return false;
             }
         } else if (trianglesOfPatchAt(v, patch) + (mFirst[u + 1] - mFirst[u]) - 4 < 3) {
             return false;
@@ -210,15 +394,21 @@ private:
         // The triangles around u and v change: those with both go, the others take v for u.
         mOld.clear();
         mNew.clear();
+        mOldPatch.clear();
+        mNewPatch.clear();
+        mNewBefore.clear();
         for (const std::uint32_t w : {u, v}) {
             for (std::uint32_t k = mFirst[w]; k < mFirst[w + 1]; ++k) {
                 const Vec3I& t = mMesh.triangles[mAround[k]];
                 if (w == v && hasCorner(t, u)) continue;   // met around u
                 mOld.push_back(t);
+                mOldPatch.push_back(mPatchOf[mAround[k]]);
                 if (hasCorner(t, u) && hasCorner(t, v)) continue;
                 Vec3I n = t;
                 for (int i = 0; i < 3; ++i) if (n[i] == u) n[i] = v;
                 mNew.push_back(n);
+                mNewPatch.push_back(mPatchOf[mAround[k]]);
+                mNewBefore.push_back(normalOf(t));
             }
         }
         // The triangles around u hold u and all its neighbours.
@@ -282,6 +472,7 @@ private:
 
     void apply(const Collapse& c)
     {
+        const std::size_t changedBefore = mCollapsed.size();
         if (mMesh.points[c.v] != c.position) {
             // v's triangles have new boxes too.
             for (std::uint32_t k = mFirst[c.v]; k < mFirst[c.v + 1]; ++k) {
@@ -303,14 +494,46 @@ private:
             for (int i = 0; i < 3; ++i) if (t[i] == c.u) t[i] = c.v;
             mCollapsed.push_back(f);
         }
+        for (std::size_t i = changedBefore; i < mCollapsed.size(); ++i) {
+            const std::uint32_t f = mCollapsed[i];
+            forEachCellKey(boxOf(mMesh.triangles[f]),
+                           [&](std::uint64_t key) { mChangedCells[key].push_back(f); });
+        }
+    }
+
+    /// Calls @a body(key) for the key of every grid cell @a box overlaps.
+    template<typename Body>
+    void forEachCellKey(const Box& box, const Body& body) const
+    {
+        const openvdb::Vec3i lo = cellOf(box.low, mInverseCell);
+        const openvdb::Vec3i hi = cellOf(box.high, mInverseCell);
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+            for (int y = lo[1]; y <= hi[1]; ++y) {
+                for (int z = lo[2]; z <= hi[2]; ++z) body(cellKey(openvdb::Vec3i(x, y, z)));
+            }
+        }
+    }
+
+    /// @brief Calls @a body(g) for every triangle g whose box, as the grid has it or as a
+    /// collapse made it, shares a cell with @a box (some more than once; removed ones too).
+    template<typename Body>
+    void forEachNear(const Box& box, const Body& body) const
+    {
+        mGrid.forEachInBox(box.low, box.high, body);
+        if (mChangedCells.empty()) return;
+        forEachCellKey(box, [&](std::uint64_t key) {
+            const auto cell = mChangedCells.find(key);
+            if (cell == mChangedCells.end()) return;
+            for (const std::uint32_t g : cell->second) body(g);
+        });
     }
 
     /// @brief Every triangle not removed that can meet one within @a box into mCandidates:
-    /// its box shares a cell with it, or a collapse changed it (the grid has its old box).
+    /// its box, as it is, shares a cell with it.
     void findCandidates(const Box& box)
     {
-        mCandidates.assign(mCollapsed.begin(), mCollapsed.end());
-        mGrid.forEachInBox(box.low, box.high, [&](std::uint32_t x) { mCandidates.push_back(x); });
+        mCandidates.clear();
+        forEachNear(box, [&](std::uint32_t x) { mCandidates.push_back(x); });
         std::sort(mCandidates.begin(), mCandidates.end());
         mCandidates.erase(std::unique(mCandidates.begin(), mCandidates.end()), mCandidates.end());
         mCandidates.erase(std::remove_if(mCandidates.begin(), mCandidates.end(),
@@ -380,7 +603,11 @@ private:
 
     InterfaceMesh& mMesh;
     const std::vector<std::uint8_t>& mMovable;
+    const double mInverseCell;   ///< of the grid's cells
     const CandidateGrid mGrid;
+    /// The settings of collapseShort() while it runs: prepareCollapse() may then join fixed
+    /// points where they allow.
+    const ShortEdgeCollapseSettings* mShort = nullptr;
     std::vector<std::uint32_t> mPatchOf;
     std::vector<char> mRemoved;   ///< per triangle
     /// Triangles around every point (as at the start of the pass, removed ones left out):
@@ -388,12 +615,28 @@ private:
     std::vector<std::uint32_t> mFirst, mAround;
     /// Points at a corner of a collapse this pass: their triangles are no longer mAround's.
     std::vector<char> mChanged;
-    /// Triangles a collapse changed (their boxes are no longer the grid's).
+    /// Triangles a collapse changed (their boxes are no longer the grid's), also by the cells
+    /// of their new boxes.
     std::vector<std::uint32_t> mCollapsed;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> mChangedCells;
     /// Scratch: the neighbours of the point being collapsed, the candidates, the partners.
     std::vector<std::uint32_t> mRing, mCandidates, mPartners;
     std::vector<Vec3I> mOld, mNew;
     std::vector<Box> mChangedBoxes;   ///< scratch of meetingPairs()
+    /// Scratch of collapseShort(): the short edges (squared length, ends), the neighbours of
+    /// v, the patches of mOld's and mNew's triangles and the normals of mNew's before, the
+    /// corners and patch for keepsCovered().
+    std::vector<std::tuple<double, std::uint32_t, std::uint32_t>> mShortEdges;
+    /// A collapse the cheap tests of collapseShortEdge() allow, and the fan it leaves.
+    struct Way
+    {
+        FanShape shape;
+        Collapse collapse;
+    };
+    std::vector<Way> mWays;
+    std::vector<std::uint32_t> mRingOfV, mOldPatch, mNewPatch, mPatches;
+    std::vector<Vec3d> mNewBefore;
+    std::vector<RawPatchDistance::Corners> mThen, mNow;
 };
 
 } // namespace
@@ -408,7 +651,17 @@ collapseMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movab
         if (left) left->clear();
         return 0;
     }
-    return EdgeCollapser(mesh, movable, cellSize, threaded).run(pairs, left);
+    return EdgeCollapser(mesh, movable, cellSize, threaded).run(pairs, left, nullptr);
+}
+
+
+std::size_t
+collapseMeetingAndShortEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                             const ShortEdgeCollapseSettings& settings,
+                             const TrianglePairs& pairs)
+{
+    return EdgeCollapser(mesh, movable, settings.cellSize, settings.threaded)
+        .run(pairs, nullptr, &settings);
 }
 
 } // namespace vdbi

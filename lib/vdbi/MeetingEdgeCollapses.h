@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file vdbi/MeetingEdgeCollapses.h
 /// @brief Separation's last resort: a free corner of a triangle that still meets another is
-/// collapsed into a neighbour where that leaves fewer meeting pairs (ALGORITHM.md §5).
+/// collapsed into a neighbour where that leaves fewer meeting pairs (ALGORITHM.md §5); and
+/// the edges under half the target length left, collapsed with every patch in sight.
 
 #ifndef VDBI_MEETING_EDGE_COLLAPSES_HAS_BEEN_INCLUDED
 #define VDBI_MEETING_EDGE_COLLAPSES_HAS_BEEN_INCLUDED
 
 #include <vdbi/CandidateGrid.h>
 #include <vdbi/InterfaceMesh.h>
+#include <vdbi/RawPatchDistance.h>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace vdbi {
@@ -40,6 +43,52 @@ namespace vdbi {
 std::size_t collapseMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                                  double cellSize, bool threaded, const TrianglePairs& pairs,
                                  TrianglePairs* left = nullptr);
+
+/// Settings of collapseMeetingAndShortEdges().
+struct ShortEdgeCollapseSettings
+{
+    /// Edges shorter than @a shortLength collapse where allowed; no collapse makes an edge
+    /// longer than @a longLength.
+    double shortLength = 0.0, longLength = 0.0;
+    /// About the edge length: the width of the grid of candidate pairs.
+    double cellSize = 1.0;
+    /// Build the grid with TBB (the result is the same either way).
+    bool threaded = true;
+    /// May patch p join fixed points a and b by a new inner edge (no other patch can)?
+    std::function<bool(std::uint32_t p, std::uint32_t a, std::uint32_t b)> mayJoinFixed =
+        [](std::uint32_t, std::uint32_t, std::uint32_t) { return false; };
+    /// If set: the surfaces the patches were made from (as SeparationSettings::source). A
+    /// collapse may then not take a moved point farther than @a sourceLimit voxels from its
+    /// patch's, nor uncover a centroid of them (RawPatchDistance::keepsCovered()).
+    RawPatchDistance* source = nullptr;
+    double sourceLimit = 1.0;
+};
+
+/// @brief collapseMeetingEdges(), then passes over the edges shorter than
+/// settings.shortLength, shortest first, each collapsed the best way allowed.
+/// @details Every patch is remeshed on its own and cannot see the others, so it keeps short
+/// edges where a collapse might make it cross another, and next to a curve it may not join
+/// two curve samples that another patch may join too. Here, after separation, every patch
+/// is in sight: an edge with a free end u collapses into its other end v (v staying, or, if
+/// free, moving to the midpoint or to u) as collapseMeetingEdges() allows, except that a
+/// new inner edge may join two fixed points where settings.mayJoinFixed allows; and only if
+/// no new edge is longer than settings.longLength, no triangle turns over, the triangles
+/// around u and v meet no other before or after, their fan gets no more triangles under
+/// SHARP_TRIANGLE_DEGREES (FanShape.h) and no smaller smallest angle (unless it stays over
+/// that), and the source bound holds. Of the ways allowed, the best fan. (A free point whose
+/// three neighbours are fixed leaves the triangle of those three: in one patch only, as the
+/// same triangle twice meets itself.) A pass after the first looks at the edges around the
+/// points the pass before changed. Serial, in the order of the edges: the result depends on
+/// the mesh alone.
+/// @param mesh     [in,out] the separated patches; the points no triangle uses any more are
+///                 removed (later points move down: @a movable no longer fits it)
+/// @param movable  one flag per point: nonzero for a free (inner) vertex
+/// @param pairs    every pair of triangles that meets
+/// @return the number of edges collapsed
+std::size_t collapseMeetingAndShortEdges(InterfaceMesh& mesh,
+                                         const std::vector<std::uint8_t>& movable,
+                                         const ShortEdgeCollapseSettings& settings,
+                                         const TrianglePairs& pairs);
 
 } // namespace vdbi
 

@@ -83,6 +83,11 @@ struct RemeshStatistics
 ///    patch cannot see the others, and those the reference surface's guards kept).
 /// 9. Where pairs are still left, a free corner of a meeting triangle is collapsed into a
 ///    neighbour where that leaves fewer (collapseMeetingEdges(): knots of one patch).
+/// 10. Edges under half the target with a free end are collapsed, every patch in sight: where
+///    no edge over 1.5 x target, no fold, no meeting pair, no sharper fan results, the voxel
+///    faces stay covered, and a new edge between two samples is their chordOwner()'s
+///    (collapseMeetingAndShortEdges(): what step 4 left where a patch could not see the
+///    others; a loop of three samples may become one triangle, in one of its patches).
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.
