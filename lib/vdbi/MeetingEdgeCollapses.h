@@ -75,7 +75,8 @@ struct ShortEdgeCollapseSettings
 /// no new edge is longer than settings.longLength, no triangle turns over, the triangles
 /// around u and v meet no other before or after, their fan gets no more triangles under
 /// SHARP_TRIANGLE_DEGREES (FanShape.h) and no smaller smallest angle (unless it stays over
-/// that), and the source bound holds. Of the ways allowed, the best fan. (A free point whose
+/// that), and the source bound holds; the dear tests (meeting pairs, source) look at the
+/// best two of the ways the others allow, by the fan they leave. (A free point whose
 /// three neighbours are fixed leaves the triangle of those three: in one patch only, as the
 /// same triangle twice meets itself.) A pass after the first looks at the edges around the
 /// points the pass before changed. Serial, in the order of the edges: the result depends on
