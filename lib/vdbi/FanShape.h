@@ -49,6 +49,22 @@ struct FanShape
     }
 };
 
+/// @brief The cosine of the smallest angle of the triangle with corners @a p0, @a p1, @a p2
+/// (openvdb vectors), as FanShape::add() takes it; 1 at a corner with an edge without length.
+template<typename Vec>
+double
+smallestAngleCosOf(const Vec& p0, const Vec& p1, const Vec& p2)
+{
+    const Vec* p[3] = {&p0, &p1, &p2};
+    double largestCos = -1.0;
+    for (int k = 0; k < 3; ++k) {
+        const Vec a = *p[(k + 1) % 3] - *p[k], b = *p[(k + 2) % 3] - *p[k];
+        const double ab = std::sqrt(a.lengthSqr() * b.lengthSqr());
+        largestCos = std::max(largestCos, ab > 0.0 ? a.dot(b) / ab : 1.0);
+    }
+    return largestCos;
+}
+
 /// Of the steps aside forEachStepAside() makes, how many the dear guards check: the best.
 constexpr std::size_t STEPS_ASIDE_TRIED = 6;
 

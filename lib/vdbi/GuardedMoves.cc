@@ -228,14 +228,8 @@ GuardedMoves::fanShape(std::uint32_t v) const
     FanShape shape;
     for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
         const openvdb::Vec3I& t = mMesh.triangles[mAround[i]];
-        double largestCos = -1.0;
-        for (int k = 0; k < 3; ++k) {
-            Vec3d a = mMesh.points[t[(k + 1) % 3]] - mMesh.points[t[k]];
-            Vec3d b = mMesh.points[t[(k + 2) % 3]] - mMesh.points[t[k]];
-            const double ab = std::sqrt(a.lengthSqr() * b.lengthSqr());
-            largestCos = std::max(largestCos, ab > 0.0 ? a.dot(b) / ab : 1.0);
-        }
-        shape.add(largestCos);
+        const PointArray& p = mMesh.points;
+        shape.add(smallestAngleCosOf(p[t[0]], p[t[1]], p[t[2]]));
     }
     return shape;
 }

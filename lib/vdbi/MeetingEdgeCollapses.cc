@@ -257,16 +257,8 @@ private:
     FanShape shapeOf(const std::vector<Vec3I>& triangles) const
     {
         FanShape shape;
-        for (const Vec3I& t : triangles) {
-            double largestCos = -1.0;
-            for (int k = 0; k < 3; ++k) {
-                const Vec3d a = mMesh.points[t[(k + 1) % 3]] - mMesh.points[t[k]];
-                const Vec3d b = mMesh.points[t[(k + 2) % 3]] - mMesh.points[t[k]];
-                const double ab = std::sqrt(a.lengthSqr() * b.lengthSqr());
-                largestCos = std::max(largestCos, ab > 0.0 ? a.dot(b) / ab : 1.0);
-            }
-            shape.add(largestCos);
-        }
+        const PointArray& p = mMesh.points;
+        for (const Vec3I& t : triangles) shape.add(smallestAngleCosOf(p[t[0]], p[t[1]], p[t[2]]));
         return shape;
     }
 
