@@ -206,28 +206,3 @@ TEST_F(TestMeshIntersections, testCloseness)
     // The face centre (2, 2) lies sqrt(2) * 0.5 from that corner.
     EXPECT_NEAR(c.faceCentreToOutput, std::sqrt(0.5), 1e-12);
 }
-
-// The centre of the voxel face a raw triangle belongs to: the two halves of a face, the fan
-// triangles of a face with split sides (odd and even subdivisions), voxels of 1 x 1 x 1.5.
-TEST_F(TestMeshIntersections, testVoxelFaceCentre)
-{
-    using vdbi_test::voxelFaceCentre;
-    auto expectNear = [](const Vec3d& got, const Vec3d& expected) {
-        EXPECT_NEAR((got - expected).length(), 0.0, 1e-12) << got << " vs " << expected;
-    };
-    // Both halves of the face x = 2 over [3, 4] x [5, 6], in either order of corners.
-    expectNear(voxelFaceCentre({2, 3, 5}, {2, 4, 5}, {2, 4, 6}), {2, 3.5, 5.5});
-    expectNear(voxelFaceCentre({2, 3, 5}, {2, 4, 6}, {2, 3, 6}), {2, 3.5, 5.5});
-    expectNear(voxelFaceCentre({2, 4, 6}, {2, 3, 5}, {2, 3, 6}), {2, 3.5, 5.5});
-    // In the plane y = 1, in voxel units of a 1.5-voxel z: the same in scaled coordinates.
-    const double z0 = 4.5 / 1.5, z1 = 6.0 / 1.5;
-    expectNear(voxelFaceCentre({0, 1, z0}, {1, 1, z0}, {1, 1, z1}), {0.5, 1, 0.5 * (z0 + z1)});
-    // A fan from the centre (2, 3.5, 5.5): a whole side, and a piece of a side split in 3.
-    expectNear(voxelFaceCentre({2, 3.5, 5.5}, {2, 3, 5}, {2, 4, 5}), {2, 3.5, 5.5});
-    expectNear(voxelFaceCentre({2, 4, 5 + 1.0 / 3}, {2, 3.5, 5.5}, {2, 4, 5 + 2.0 / 3}),
-               {2, 3.5, 5.5});
-    // Split in 4, the piece from the side's midpoint: a side along an axis from the centre,
-    // unequal to the other; not a face's half, so its centroid (a point of the face).
-    expectNear(voxelFaceCentre({2, 3.5, 5.5}, {2, 3.5, 5}, {2, 3.75, 5}),
-               Vec3d(6, 10.75, 15.5) / 3.0);
-}

@@ -128,9 +128,10 @@ TEST_F(TestRawPatchDistance, testMatchesBruteForceOnRandomStaircase)
     EXPECT_LT(within, 1800);
 }
 
-// A change keeps the source covered if every centroid it passed within the limit of still is,
-// by the changed triangles or (asked only then) by another. Voxels 2 high: the square's
-// centroids (2/3, 1/3, 0) and (1/3, 2/3, 0), a triangle over it lifted in voxel units.
+// A change keeps the source covered if every voxel face centre and triangle centroid it passed
+// within the limit of still is, by the changed triangles or (asked only then) by another.
+// Voxels 2 high: the square's centre (1/2, 1/2, 0), once for its two halves, and their
+// centroids (2/3, 1/3, 0) and (1/3, 2/3, 0); a triangle over it lifted in voxel units.
 TEST_F(TestRawPatchDistance, testKeepsCovered)
 {
     const vdbi::InterfaceMesh raw = twoSquares();
@@ -149,18 +150,69 @@ TEST_F(TestRawPatchDistance, testKeepsCovered)
     // Lifted from 0 to 0.5 voxel: still within 0.95.
     EXPECT_TRUE(distance.keepsCovered(0, over(0.0), over(0.5), 0.95, elsewhere(false)));
     EXPECT_EQ(asked, 0);
-    // To 1.2: both centroids lost, unless another triangle covers them.
+    // To 1.2: all three lost, unless another triangle covers them.
     EXPECT_FALSE(distance.keepsCovered(0, over(0.0), over(1.2), 0.95, elsewhere(false)));
     EXPECT_EQ(asked, 1);
     asked = 0;
     EXPECT_TRUE(distance.keepsCovered(0, over(0.0), over(1.2), 0.95, elsewhere(true)));
-    EXPECT_EQ(asked, 2);
+    EXPECT_EQ(asked, 3);
     // From 1.0 to 1.2: not within the limit before either, so nothing to keep.
     asked = 0;
     EXPECT_TRUE(distance.keepsCovered(0, over(1.0), over(1.2), 0.95, elsewhere(false)));
     EXPECT_EQ(asked, 0);
-    // Patch 1, the square at x = 0: its centroid (0, 1/3, 1/6) was 1/6 voxel under the
+    // Patch 1, the square at x = 0, half a voxel high (no voxel face: the centroids of its
+    // halves stand for it): its centroid (0, 1/3, 1/6) was 1/6 voxel under the
     // triangle; lifted to 1.2, the change loses it under a limit of 0.4.
     EXPECT_FALSE(distance.keepsCovered(1, over(0.0), over(1.2), 0.4, elsewhere(false)));
     EXPECT_EQ(asked, 1);
+}
+
+// The face centre is what the output promises to stay near: a change that leaves a triangle
+// near each centroid of the square's halves but none near its centre loses the centre.
+TEST_F(TestRawPatchDistance, testKeepsTheFaceCentreNotTheCentroids)
+{
+    const vdbi::InterfaceMesh raw = twoSquares();
+    vdbi::RawPatchDistance distance(raw, Vec3d(1, 1, 2), 1.5);
+    const std::vector<vdbi::RawPatchDistance::Corners> square = {
+        {{Vec3d(0, 0, 0), Vec3d(1, 0, 0), Vec3d(1, 1, 0)}},
+        {{Vec3d(0, 0, 0), Vec3d(1, 1, 0), Vec3d(0, 1, 0)}}};
+    // Small triangles around the centroids (2/3, 1/3) and (1/3, 2/3), about 0.2 from the
+    // centre.
+    auto around = [](double x, double y) {
+        return vdbi::RawPatchDistance::Corners{
+            {Vec3d(x - 0.05, y - 0.05, 0), Vec3d(x + 0.05, y - 0.05, 0), Vec3d(x, y + 0.05, 0)}};
+    };
+    const std::vector<vdbi::RawPatchDistance::Corners> nearCentroids = {
+        around(2.0 / 3, 1.0 / 3), around(1.0 / 3, 2.0 / 3)};
+    auto nowhere = [](const Vec3d&) { return false; };
+    EXPECT_FALSE(distance.keepsCovered(0, square, nearCentroids, 0.1, nowhere));
+    // With one around the centre as well, it is kept.
+    std::vector<vdbi::RawPatchDistance::Corners> withCentre = nearCentroids;
+    withCentre.push_back(around(0.5, 0.5));
+    EXPECT_TRUE(distance.keepsCovered(0, square, withCentre, 0.1, nowhere));
+}
+
+// The centre of the voxel face a raw triangle belongs to: the two halves of a face, the fan
+// triangles of a face with split sides (odd and even subdivisions), voxels of 1 x 1 x 1.5.
+TEST_F(TestRawPatchDistance, testVoxelFaceCentre)
+{
+    using vdbi::voxelFaceCentre;
+    auto expectNear = [](const Vec3d& got, const Vec3d& expected) {
+        EXPECT_NEAR((got - expected).length(), 0.0, 1e-12) << got << " vs " << expected;
+    };
+    // Both halves of the face x = 2 over [3, 4] x [5, 6], in either order of corners.
+    expectNear(voxelFaceCentre({2, 3, 5}, {2, 4, 5}, {2, 4, 6}), {2, 3.5, 5.5});
+    expectNear(voxelFaceCentre({2, 3, 5}, {2, 4, 6}, {2, 3, 6}), {2, 3.5, 5.5});
+    expectNear(voxelFaceCentre({2, 4, 6}, {2, 3, 5}, {2, 3, 6}), {2, 3.5, 5.5});
+    // In the plane y = 1, in voxel units of a 1.5-voxel z: the same in scaled coordinates.
+    const double z0 = 4.5 / 1.5, z1 = 6.0 / 1.5;
+    expectNear(voxelFaceCentre({0, 1, z0}, {1, 1, z0}, {1, 1, z1}), {0.5, 1, 0.5 * (z0 + z1)});
+    // A fan from the centre (2, 3.5, 5.5): a whole side, and a piece of a side split in 3.
+    expectNear(voxelFaceCentre({2, 3.5, 5.5}, {2, 3, 5}, {2, 4, 5}), {2, 3.5, 5.5});
+    expectNear(voxelFaceCentre({2, 4, 5 + 1.0 / 3}, {2, 3.5, 5.5}, {2, 4, 5 + 2.0 / 3}),
+               {2, 3.5, 5.5});
+    // Split in 4, the piece from the side's midpoint: a side along an axis from the centre,
+    // unequal to the other; not a face's half, so its centroid (a point of the face).
+    expectNear(voxelFaceCentre({2, 3.5, 5.5}, {2, 3.5, 5}, {2, 3.75, 5}),
+               Vec3d(6, 10.75, 15.5) / 3.0);
 }

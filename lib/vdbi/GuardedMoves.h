@@ -80,8 +80,8 @@ protected:
 
     /// @brief Do the triangles [@a first, @a last), changed by a move of the points in
     /// mMovedFrom (with their positions before), still pass within sourceLimit of every
-    /// centroid of their patches' source triangles that they passed within it before, or
-    /// does another triangle of the patch?
+    /// voxel face centre and centroid of their patches' source that they passed within it
+    /// before, or does another triangle of the patch?
     /// @details A move that keeps the point itself close to the faces (keepsClose()) may
     /// still take the triangles around it off the faces of a thin tip, as a flip across the
     /// tip does (MeetingEdgeFlips.h).

@@ -59,7 +59,8 @@ struct ShortEdgeCollapseSettings
         [](std::uint32_t, std::uint32_t, std::uint32_t) { return false; };
     /// If set: the surfaces the patches were made from (as SeparationSettings::source). A
     /// collapse may then not take a moved point farther than @a sourceLimit voxels from its
-    /// patch's, nor uncover a centroid of them (RawPatchDistance::keepsCovered()).
+    /// patch's, nor uncover a face centre or centroid of them
+    /// (RawPatchDistance::keepsCovered()).
     RawPatchDistance* source = nullptr;
     double sourceLimit = 1.0;
 };

@@ -151,7 +151,7 @@ private:
         return flip.gain <= 0 || keepsSourceCovered(flip);
     }
 
-    /// Does @a flip keep the centroids of the source triangles near it within the limit?
+    /// Does @a flip keep the face centres and centroids of the source near it within the limit?
     bool keepsSourceCovered(const Flip& flip)
     {
         if (!mSource) return true;

@@ -39,9 +39,9 @@ namespace vdbi {
 ///                  the whole mesh (every point for a search of the whole mesh)
 /// @param left      if given, set to the pairs of triangles that still meet, ascending
 /// @param source    if given, the surfaces the patches were made from (same indices): no flip
-///                  takes a patch farther than @a sourceLimit voxels from a centroid of their
-///                  triangles that it passed within that (a flip across a thin tip would
-///                  cut the tip off)
+///                  takes a patch farther than @a sourceLimit voxels from a voxel face centre
+///                  or centroid of their triangles that it passed within that (a flip
+///                  across a thin tip would cut the tip off)
 /// @return the number of edges flipped
 std::size_t flipMeetingEdges(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                              double cellSize, bool threaded,

@@ -33,8 +33,8 @@ struct SeparationSettings
     /// @brief If set: the surfaces the mesh's patches were made from (same indices). A move
     /// may then not take a point farther from those of its patches than @a sourceLimit
     /// voxels, or than its start was if that is farther; nor take the triangles around it
-    /// farther than that from a centroid of their source that they passed within it of
-    /// (RawPatchDistance::keepsCovered()).
+    /// farther than that from a face centre or centroid of their source that they passed
+    /// within it of (RawPatchDistance::keepsCovered()).
     RawPatchDistance* source = nullptr;
     double sourceLimit = 1.0;
     /// The smallest side of a voxel (world length): a move by d changes a distance in voxels

@@ -15,6 +15,63 @@ namespace vdbi {
 
 using Vec3d = openvdb::Vec3d;
 
+Vec3d
+voxelFaceCentre(const Vec3d& a, const Vec3d& b, const Vec3d& c)
+{
+    // Raw corners are key multiples of the voxel size: equal components are exactly equal.
+    auto alongAxis = [](const Vec3d& p, const Vec3d& q) {
+        return int(p[0] == q[0]) + int(p[1] == q[1]) + int(p[2] == q[2]) == 2;
+    };
+    const Vec3d corner[3] = {a, b, c};
+    int axisSides = 0, onlyAxisSide = -1; // side i runs from corner i to corner i + 1
+    for (int i = 0; i < 3; ++i) {
+        if (alongAxis(corner[i], corner[(i + 1) % 3])) {
+            ++axisSides;
+            onlyAxisSide = i;
+        }
+    }
+    if (axisSides == 1) return corner[(onlyAxisSide + 2) % 3];
+    if (axisSides == 2) {
+        for (int i = 0; i < 3; ++i) {
+            const Vec3d &p = corner[i], &q = corner[(i + 1) % 3], &r = corner[(i + 2) % 3];
+            // The diagonal p-q, between two legs of equal length that meet at r.
+            const double leg0 = (p - r).lengthSqr(), leg1 = (q - r).lengthSqr();
+            if (!alongAxis(p, q) && std::abs(leg0 - leg1) <= 1e-9 * std::max(leg0, leg1)) {
+                return 0.5 * (p + q);
+            }
+        }
+    }
+    return (a + b + c) / 3.0;
+}
+
+
+namespace {
+
+bool
+isInBox(const Vec3d& q, const Vec3d& low, const Vec3d& high)
+{
+    return q[0] >= low[0] && q[1] >= low[1] && q[2] >= low[2] && q[0] <= high[0]
+        && q[1] <= high[1] && q[2] <= high[2];
+}
+
+/// @brief Is @a centre, the voxelFaceCentre() of the triangle with corners @a corner, this
+/// triangle's to report? Both halves of a face give the midpoint of their shared diagonal,
+/// exactly, and run along it in opposite directions: the half that runs from the smaller
+/// corner reports it. (The centre of a fan, a corner of each of its triangles, is reported
+/// by each: they are few.)
+bool
+ownsCentre(const Vec3d (&corner)[3], const Vec3d& centre)
+{
+    for (int i = 0; i < 3; ++i) {
+        const Vec3d &p = corner[i], &q = corner[(i + 1) % 3];
+        if (0.5 * (p + q) == centre) return p < q;
+    }
+    return true;
+}
+
+} // namespace
+
+
 RawPatchDistance::RawPatchDistance(const InterfaceMesh& raw, const Vec3d& voxel, double radius,
                                    bool threaded)
     : mRaw(raw), mVoxel(voxel), mInverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2])
@@ -34,15 +91,6 @@ Vec3d
 RawPatchDistance::world(const Vec3d& q) const
 {
     return Vec3d(q[0] * mVoxel[0], q[1] * mVoxel[1], q[2] * mVoxel[2]);
-}
-
-
-Vec3d
-RawPatchDistance::centroid(std::uint32_t triangle) const
-{
-    const openvdb::Vec3I& tri = mRaw.triangles[triangle];
-    return (scaled(mRaw.points[tri[0]]) + scaled(mRaw.points[tri[1]])
-            + scaled(mRaw.points[tri[2]])) / 3.0;
 }
 
 
@@ -138,7 +186,7 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
         return std::any_of(triangles.begin(), triangles.end(),
                            [&](const Corners& t) { return isWithin(q, t, limit); });
     };
-    // Only centroids within the limit of a changed triangle, before or now, can have lost it.
+    // Only points within the limit of a changed triangle, before or now, can have lost it.
     Vec3d low(std::numeric_limits<double>::max()), high(-low);
     for (const std::vector<Corners>* triangles : {&before, &now}) {
         for (const Corners& t : *triangles) {
@@ -148,9 +196,9 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
             }
         }
     }
-    mCentroids.clear();
-    centroidsIn(patch, low - Vec3d(limit), high + Vec3d(limit), mCentroids);
-    for (const Vec3d& q : mCentroids) {
+    mGuarded.clear();
+    guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), mGuarded);
+    for (const Vec3d& q : mGuarded) {
         if (!within(q, now) && within(q, before) && !coveredElsewhere(q)) return false;
     }
     return true;
@@ -158,21 +206,28 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
 
 
 void
-RawPatchDistance::centroidsIn(std::uint32_t patch, const Vec3d& low, const Vec3d& high,
-                              std::vector<Vec3d>& centroids)
+RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const Vec3d& high,
+                                  std::vector<Vec3d>& points)
 {
     const Cells& cells = cellsOf(patch);
-    for (int x = int(std::floor(low[0])); x <= int(std::floor(high[0])); ++x) {
-        for (int y = int(std::floor(low[1])); y <= int(std::floor(high[1])); ++y) {
-            for (int z = int(std::floor(low[2])); z <= int(std::floor(high[2])); ++z) {
+    // Cells hold triangles by centroid; a face centre lies on its triangle, within reach.
+    const Vec3d cellLow = low - Vec3d(cells.reach), cellHigh = high + Vec3d(cells.reach);
+    for (int x = int(std::floor(cellLow[0])); x <= int(std::floor(cellHigh[0])); ++x) {
+        for (int y = int(std::floor(cellLow[1])); y <= int(std::floor(cellHigh[1])); ++y) {
+            for (int z = int(std::floor(cellLow[2])); z <= int(std::floor(cellHigh[2])); ++z) {
                 const std::uint64_t key = cellKey(openvdb::Vec3i(x, y, z));
                 auto it = std::lower_bound(cells.entries.begin(), cells.entries.end(),
                                            std::make_pair(key, std::uint32_t(0)));
                 for (; it != cells.entries.end() && it->first == key; ++it) {
-                    const Vec3d c = centroid(it->second);
-                    if (c[0] >= low[0] && c[1] >= low[1] && c[2] >= low[2] && c[0] <= high[0]
-                        && c[1] <= high[1] && c[2] <= high[2]) {
-                        centroids.push_back(c);
+                    const openvdb::Vec3I& tri = mRaw.triangles[it->second];
+                    const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]),
+                                             scaled(mRaw.points[tri[1]]),
+                                             scaled(mRaw.points[tri[2]])};
+                    const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
+                    const Vec3d centroid = (corner[0] + corner[1] + corner[2]) / 3.0;
+                    if (isInBox(centroid, low, high)) points.push_back(centroid);
+                    if (isInBox(centre, low, high) && ownsCentre(corner, centre)) {
+                        points.push_back(centre);
                     }
                 }
             }

@@ -17,6 +17,16 @@
 
 namespace vdbi {
 
+/// @brief The centre of the voxel face that raw triangle (a, b, c) is part of, in voxel units.
+/// @details A face is two triangles whose legs lie along the lattice axes (its centre is the
+/// midpoint of their shared diagonal), or, where a side is split, a fan from its centre, whose
+/// triangles have one side along an axis (the centre is the corner opposite). Any other
+/// triangle (the piece of a fan next to the midpoint of a side split in an even number):
+/// its centroid. With sides split in 2 that piece looks like a fine face's half: the point
+/// taken is then the centre of a quarter of the face.
+openvdb::Vec3d voxelFaceCentre(const openvdb::Vec3d& a, const openvdb::Vec3d& b,
+                               const openvdb::Vec3d& c);
+
 /// @brief Distances from points to the raw patches, measured in voxels along each axis (as
 /// the tests measure closeness), exactly up to a radius.
 /// @details A patch's triangles are sorted into cells of one voxel by their centroids when a
@@ -56,12 +66,15 @@ public:
     /// Is @a q within @a limit of triangle @a t (both in voxel units)?
     static bool isWithin(const openvdb::Vec3d& q, const Corners& t, double limit);
 
-    /// @brief Does a change of some triangles of patch @a patch keep the centroids of the
-    /// patch's source triangles close? A centroid within @a limit voxels of one of @a before
-    /// (the changed triangles as they were) must be within it of one of @a now (as they are),
-    /// or @a coveredElsewhere(centroid) must find another triangle of the patch within it.
-    /// @details The centroid measure is stricter than the voxel face centres the output
-    /// promises: the halves of a face have their centroids towards its corners.
+    /// @brief Does a change of some triangles of patch @a patch keep the patch's source
+    /// close? A voxel face centre (voxelFaceCentre()) or triangle centroid of the source within
+    /// @a limit voxels of one of @a before (the changed triangles as they were) must be within
+    /// it of one of @a now (as they are), or @a coveredElsewhere(point) must find another
+    /// triangle of the patch within it.
+    /// @details The face centres are what the output promises to stay near; neither measure
+    /// bounds the other (a centre can lie farther from the result than the centroids of its
+    /// face's halves; guarding the centres alone let the frog at 4 voxels have a centre 1.010
+    /// voxels from the result, its centroids up to 1.223).
     bool keepsCovered(std::uint32_t patch, const std::vector<Corners>& before,
                       const std::vector<Corners>& now, double limit,
                       const std::function<bool(const openvdb::Vec3d&)>& coveredElsewhere);
@@ -81,17 +94,17 @@ private:
     };
 
     const Cells& cellsOf(std::uint32_t patch);
-    openvdb::Vec3d centroid(std::uint32_t triangle) const;
-    /// Appends the centroids of patch @a patch's triangles in the box [@a low, @a high].
-    void centroidsIn(std::uint32_t patch, const openvdb::Vec3d& low, const openvdb::Vec3d& high,
-                     std::vector<openvdb::Vec3d>& centroids);
+    /// Appends the centroids of patch @a patch's triangles in the box [@a low, @a high], and
+    /// their voxel face centres there (a face's once for its two halves).
+    void guardedPointsIn(std::uint32_t patch, const openvdb::Vec3d& low,
+                         const openvdb::Vec3d& high, std::vector<openvdb::Vec3d>& points);
 
     const InterfaceMesh& mRaw;
     const openvdb::Vec3d mVoxel, mInverse;
     const double mRadius;
     const bool mThreaded;
     std::vector<Cells> mCells;
-    std::vector<openvdb::Vec3d> mCentroids;   ///< keepsCovered()'s
+    std::vector<openvdb::Vec3d> mGuarded;   ///< keepsCovered()'s
 };
 
 } // namespace vdbi

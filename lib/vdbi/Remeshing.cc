@@ -69,9 +69,10 @@ constexpr double SEPARATION_STEP = 0.1;
 /// within, and pullFarPoints() pulls vertices to.
 /// @details The output promises one voxel. Separation pushed vertices past it (frog at 4
 /// voxels: 1.162, monu16 1.191), and vertices that remeshing could not project onto the
-/// reference stayed there (frog 1.030, monu16 1.046). Its moves and flips keep the
-/// centroids of the voxel faces within it too: a flip across a thin tip left a voxel face
-/// centre 1.028 voxels from the frog at 4 voxels (0.957 with the bound).
+/// reference stayed there (frog 1.030, monu16 1.046). Its moves, flips and collapses keep
+/// the voxel face centres and the centroids of their halves within it too
+/// (RawPatchDistance::keepsCovered()): a flip across a thin tip left a voxel face centre
+/// 1.028 voxels from the frog at 4 voxels (0.957 with the bound).
 constexpr double CLOSENESS_LIMIT = 0.95;
 /// @brief How far, in voxels, shapeSharpFans() may take a point or a face from the voxel
 /// faces (or farther than it was), and how far it may move a point, in target lengths (its
@@ -82,17 +83,10 @@ constexpr double CLOSENESS_LIMIT = 0.95;
 constexpr double SHAPING_LIMIT = 0.8, SHAPING_REACH = 0.3;
 /// @brief The range the result is judged by, in target lengths: collapseMeetingAndShortEdges()
 /// collapses the edges under SHORT_EDGE where it makes none over LONG_EDGE.
-/// @details Frog at 2 voxels: edges in range 98.10 -> 98.996 %, 1st-percentile smallest angle
+/// @details Frog at 2 voxels: edges in range 98.10 -> 99.02 %, 1st-percentile smallest angle
 /// 26.0 -> 26.9 degrees (the collapses leave no sharper fan); face centres to the result
-/// 0.909 voxel before and after.
+/// 0.909 -> 0.947 voxel.
 constexpr double SHORT_EDGE = 0.5, LONG_EDGE = 1.5;
-/// @brief How far, in voxels, the short-edge collapses may take a point from the voxel faces,
-/// and the centroids of the faces they cover from the result.
-/// @details Tighter than CLOSENESS_LIMIT: a face's centre may lie farther from the result than
-/// the centroids of its halves, and a collapse removes whole triangles (frog at 4 voxels: a
-/// face centre 1.030 voxels from the result with 0.95, 0.958 with this; at 2 voxels 99.02 %
-/// of the edges in range with 0.95, 98.996 % with this).
-constexpr double SHORT_EDGE_COVER = 0.85;
 /// Distances to the voxel faces are exact up to this times CLOSENESS_LIMIT.
 constexpr double RAW_DISTANCE_RADIUS = 1.25;
 /// @brief How far, in voxels, an inner point may lie from its reference surface before the
@@ -467,7 +461,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         return chordOwner(curves, a, b) == patch;
     };
     shortEdges.source = &rawDistance;
-    shortEdges.sourceLimit = SHORT_EDGE_COVER;
+    shortEdges.sourceLimit = CLOSENESS_LIMIT;
     collapseMeetingAndShortEdges(out, inner, shortEdges, left);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;

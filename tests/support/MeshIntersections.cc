@@ -359,36 +359,6 @@ describeIntersections(const vdbi::InterfaceMesh& mesh, const std::vector<Interse
 }
 
 
-Vec3d
-voxelFaceCentre(const Vec3d& a, const Vec3d& b, const Vec3d& c)
-{
-    // Raw corners are key multiples of the voxel size: equal components are exactly equal.
-    auto alongAxis = [](const Vec3d& p, const Vec3d& q) {
-        return int(p[0] == q[0]) + int(p[1] == q[1]) + int(p[2] == q[2]) == 2;
-    };
-    const Vec3d corner[3] = {a, b, c};
-    int axisSides = 0, onlyAxisSide = -1; // side i runs from corner i to corner i + 1
-    for (int i = 0; i < 3; ++i) {
-        if (alongAxis(corner[i], corner[(i + 1) % 3])) {
-            ++axisSides;
-            onlyAxisSide = i;
-        }
-    }
-    if (axisSides == 1) return corner[(onlyAxisSide + 2) % 3];
-    if (axisSides == 2) {
-        for (int i = 0; i < 3; ++i) {
-            const Vec3d &p = corner[i], &q = corner[(i + 1) % 3], &r = corner[(i + 2) % 3];
-            // The diagonal p-q, between two legs of equal length that meet at r.
-            const double leg0 = (p - r).lengthSqr(), leg1 = (q - r).lengthSqr();
-            if (!alongAxis(p, q) && std::abs(leg0 - leg1) <= 1e-9 * std::max(leg0, leg1)) {
-                return 0.5 * (p + q);
-            }
-        }
-    }
-    return (a + b + c) / 3.0;
-}
-
-
 Closeness
 measureCloseness(const vdbi::InterfaceMesh& raw, const vdbi::InterfaceMesh& out,
                  const Vec3d& voxelSize, double radius)

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <vdbi/InterfaceMesh.h>
+#include <vdbi/RawPatchDistance.h>
 
 #include <openvdb/Types.h>
 
@@ -97,15 +98,8 @@ struct Closeness
     double rawToOutput = 0.0;
 };
 
-/// @brief The centre of the voxel face that raw triangle (a, b, c) is part of, in voxel units.
-/// @details A face is two triangles whose legs lie along the lattice axes (its centre is the
-/// midpoint of their shared diagonal), or, where a side is split, a fan from its centre, whose
-/// triangles have one side along an axis (the centre is the corner opposite). Any other
-/// triangle (the piece of a fan next to the midpoint of a side split in an even number):
-/// its centroid. With sides split in 2 that piece looks like a fine face's half: the point
-/// taken is then the centre of a quarter of the face.
-openvdb::Vec3d voxelFaceCentre(const openvdb::Vec3d& a, const openvdb::Vec3d& b,
-                               const openvdb::Vec3d& c);
+/// The library's measure of a raw triangle's voxel face centre (tested on its own).
+using vdbi::voxelFaceCentre;
 
 /// @brief Measures Closeness patch by patch, with points scaled by 1 / @a voxelSize per axis
 /// (anisotropic voxels count in voxels along each axis). Distances beyond @a radius voxels
