@@ -108,6 +108,8 @@ RawPatchDistance::cellsOf(std::uint32_t patch)
         const Vec3d centre = (a + b + c) / 3.0;
         cells.reach = std::max({cells.reach, (a - centre).length(), (b - centre).length(),
                                 (c - centre).length()});
+        cells.centreReach =
+            std::max(cells.centreReach, (voxelFaceCentre(a, b, c) - centre).length());
         const openvdb::Vec3i cell(int(std::floor(centre[0])), int(std::floor(centre[1])),
                                   int(std::floor(centre[2])));
         cells.entries.emplace_back(cellKey(cell), std::uint32_t(t));
@@ -210,8 +212,10 @@ RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const V
                                   std::vector<Vec3d>& points)
 {
     const Cells& cells = cellsOf(patch);
-    // Cells hold triangles by centroid; a face centre lies on its triangle, within reach.
-    const Vec3d cellLow = low - Vec3d(cells.reach), cellHigh = high + Vec3d(cells.reach);
+    // Cells hold triangles by centroid: a face centre in the box has its triangle's centroid
+    // within centreReach of it.
+    const Vec3d cellLow = low - Vec3d(cells.centreReach),
+                cellHigh = high + Vec3d(cells.centreReach);
     for (int x = int(std::floor(cellLow[0])); x <= int(std::floor(cellHigh[0])); ++x) {
         for (int y = int(std::floor(cellLow[1])); y <= int(std::floor(cellHigh[1])); ++y) {
             for (int z = int(std::floor(cellLow[2])); z <= int(std::floor(cellHigh[2])); ++z) {

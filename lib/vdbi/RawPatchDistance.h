@@ -91,6 +91,7 @@ private:
         bool built = false;
         std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
         double reach = 0.0;   ///< farthest corner from its triangle's centroid, in voxels
+        double centreReach = 0.0;   ///< the same for voxelFaceCentre()
     };
 
     const Cells& cellsOf(std::uint32_t patch);
