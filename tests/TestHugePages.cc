@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file TestHugePages.cc
-/// @brief restartWithHugePages(): the restarted program's heap gets huge pages, and a
-/// choice the user made in GLIBC_TUNABLES is kept. Runs tests/probe/huge_pages_probe.
+/// @brief restartWithHugePages(): the restarted program's heap gets huge pages and grows in
+/// large steps, and a choice the user made in GLIBC_TUNABLES is kept. Runs
+/// tests/probe/huge_pages_probe.
 
 #include "support/TestFiles.h"
 
@@ -16,10 +17,15 @@
 
 namespace {
 
+/// What the restart adds after the huge pages: the heap's pad and the thresholds it freezes.
+const std::string HEAP_TUNABLES = "glibc.malloc.top_pad=67108864:"
+    "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=67108864";
+
 struct ProbeResult
 {
     std::string tunables;
     long hugeKb = -1;
+    long threadHeapKb = -1;   ///< writable kB of a new thread's heap after its first malloc
 };
 
 /// Runs the probe with GLIBC_TUNABLES set to @a tunables (unset if empty).
@@ -38,6 +44,9 @@ runProbe(const std::string& tunables)
         if (!text.empty() && text.back() == '\n') text.pop_back();
         if (text.rfind("tunables=", 0) == 0) result.tunables = text.substr(9);
         if (text.rfind("huge_kb=", 0) == 0) result.hugeKb = std::stol(text.substr(8));
+        if (text.rfind("thread_heap_kb=", 0) == 0) {
+            result.threadHeapKb = std::stol(text.substr(15));
+        }
     }
     EXPECT_EQ(pclose(pipe), 0) << command;
     return result;
@@ -77,10 +86,13 @@ protected:
 TEST_F(TestHugePages, testRestartGivesTheHeapHugePages)
 {
     const ProbeResult r = runProbe("");
-    EXPECT_EQ(r.tunables, "glibc.malloc.hugetlb=1");
+    EXPECT_EQ(r.tunables, "glibc.malloc.hugetlb=1:" + HEAP_TUNABLES);
     // 64 MiB touched: at least one 2 MiB page, where the kernel had one to give (it usually
     // backs nearly all of it).
     EXPECT_GE(r.hugeKb, 2048);
+    // The pad: a thread's heap is made writable in one step (glibc's thread heaps are at
+    // most 64 MiB), not a few pages per growth.
+    EXPECT_GE(r.threadHeapKb, 32 * 1024);
 }
 
 TEST_F(TestHugePages, testUsersChoiceIsKept)
@@ -91,8 +103,16 @@ TEST_F(TestHugePages, testUsersChoiceIsKept)
     EXPECT_EQ(off.hugeKb, 0);
     // Other tunables stay, the huge page one is added after them.
     const ProbeResult other = runProbe("glibc.malloc.check=0");
-    EXPECT_EQ(other.tunables, "glibc.malloc.check=0:glibc.malloc.hugetlb=1");
+    EXPECT_EQ(other.tunables, "glibc.malloc.check=0:glibc.malloc.hugetlb=1:" + HEAP_TUNABLES);
     EXPECT_GE(other.hugeKb, 2048);
+    // A pad the user chose stays: with none, a thread's heap is writable a few pages at a
+    // time (what the test above tells apart).
+    const ProbeResult noPad = runProbe("glibc.malloc.top_pad=0");
+    EXPECT_EQ(noPad.tunables, "glibc.malloc.top_pad=0:glibc.malloc.hugetlb=1:"
+              "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=67108864");
+    EXPECT_GE(noPad.hugeKb, 2048);
+    EXPECT_GE(noPad.threadHeapKb, 0);
+    EXPECT_LT(noPad.threadHeapKb, 1024);
 }
 
 #endif // VDBI_HUGE_PAGES_PROBE_PATH && __GLIBC__

@@ -23,6 +23,13 @@ namespace {
 
 constexpr const char* TUNABLE = "glibc.malloc.hugetlb";
 
+/// Set with the huge pages unless the user named them (HugePages.h says why): the heap grows
+/// by 64 MiB more than asked. Setting that stops glibc from raising its mmap and trim
+/// thresholds as a program frees large blocks, so they are set to where that rule takes them
+/// on 64-bit systems: without, every block over 128 KiB would be new, zeroed pages each time.
+constexpr const char* HEAP_TUNABLES[][2] = {{"glibc.malloc.top_pad", "67108864"},
+    {"glibc.malloc.mmap_threshold", "33554432"}, {"glibc.malloc.trim_threshold", "67108864"}};
+
 /// The kernel's transparent huge page mode, the bracketed word of
 /// "always [madvise] never"; empty if unknown.
 std::string
@@ -66,7 +73,11 @@ restartWithHugePages(char** argv)
         || kernelHugePageMode() != "madvise" || !glibcHasHugePageTunable()) {
         return;
     }
-    const std::string value = (tunables.empty() ? "" : tunables + ":") + TUNABLE + "=1";
+    std::string value = (tunables.empty() ? "" : tunables + ":") + TUNABLE + "=1";
+    for (const auto& [name, bytes] : HEAP_TUNABLES) {
+        if (tunables.find(name) != std::string::npos) continue;
+        value += std::string(":") + name + "=" + bytes;
+    }
     if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
     execv("/proc/self/exe", argv);
     // Not restarted (no /proc, say): go on as we are, without the tunable in the environment

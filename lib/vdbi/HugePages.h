@@ -10,6 +10,15 @@
 /// only on request ("madvise", the common default), glibc >= 2.35 makes that request for its
 /// heap when the tunable glibc.malloc.hugetlb=1 is set, and tunables are read only when a
 /// process starts: hence a restart of the program with it set.
+/// The restart also sets glibc.malloc.top_pad to 64 MiB: how much more than asked the heap
+/// grows by. A thread's heap (each thread that allocates gets one of its own) otherwise grows
+/// a few pages at a time, one mprotect() per growth, and the kernel backs a fault with a huge
+/// page only where the 2 MiB around it are already writable. A frog CLI run without
+/// remeshing on 2 threads made 5 230 such calls, with the pad 56; its fattening took 0.08 s
+/// instead of 0.02 s, the whole run 0.67 s instead of 0.53 s (medians of 5). The pad is
+/// address space, not memory: pages count only once touched (the run's peak stays 350 MiB).
+/// Setting it freezes glibc's mmap and trim thresholds, so the restart sets them too, to the
+/// values glibc's own rule raises them to (32 and 64 MiB).
 
 #ifndef VDBI_HUGE_PAGES_HAS_BEEN_INCLUDED
 #define VDBI_HUGE_PAGES_HAS_BEEN_INCLUDED
@@ -22,12 +31,13 @@ namespace vdbi {
 /// survives the restart) or writes to a buffered stream (what is still buffered is lost).
 /// Threads started by static initialisers do no harm: the restart ends them. It returns
 /// without restarting when GLIBC_TUNABLES already names glibc.malloc.hugetlb (the user's
-/// choice, or the restart already happened: set glibc.malloc.hugetlb=0 to opt out), when
+/// choice, or the restart already happened: set glibc.malloc.hugetlb=0 to opt out; a pad or
+/// threshold the user set is kept too), when
 /// the program runs under valgrind (whose tools would not follow the restart), when the
 /// kernel's mode is not "madvise" (always: nothing to gain; never: nothing to have), when
 /// glibc is older than 2.35, or when the restart fails.
-/// It changes nothing off Linux and glibc. Memory use is the same: only the page size of
-/// the heap changes.
+/// It changes nothing off Linux and glibc, and not the memory a run needs: the page size of
+/// the heap changes, and how it grows.
 /// @param argv  main()'s argv, passed on unchanged
 void restartWithHugePages(char** argv);
 
