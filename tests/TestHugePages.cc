@@ -18,8 +18,9 @@
 namespace {
 
 /// What the restart adds after the huge pages: the heap's pad and the thresholds it freezes.
-const std::string HEAP_TUNABLES = "glibc.malloc.top_pad=67108864:"
-    "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=67108864";
+const std::string PAD = "glibc.malloc.top_pad=67108864",
+    THRESHOLDS = "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=67108864",
+    HEAP_TUNABLES = PAD + ":" + THRESHOLDS;
 
 struct ProbeResult
 {
@@ -108,8 +109,7 @@ TEST_F(TestHugePages, testUsersChoiceIsKept)
     // A pad the user chose stays: with none, a thread's heap is writable a few pages at a
     // time (what the test above tells apart).
     const ProbeResult noPad = runProbe("glibc.malloc.top_pad=0");
-    EXPECT_EQ(noPad.tunables, "glibc.malloc.top_pad=0:glibc.malloc.hugetlb=1:"
-              "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=67108864");
+    EXPECT_EQ(noPad.tunables, "glibc.malloc.top_pad=0:glibc.malloc.hugetlb=1:" + THRESHOLDS);
     EXPECT_GE(noPad.hugeKb, 2048);
     EXPECT_GE(noPad.threadHeapKb, 0);
     EXPECT_LT(noPad.threadHeapKb, 1024);
