@@ -230,6 +230,8 @@ SOP_VDBInterfaces::cookVDBSop(OP_Context& context)
         CookInterrupter interrupter("Extracting VDB interfaces");
         options.repair.interrupter = &interrupter;
         const vdbi::Result result = vdbi::extractInterfaces(*grid, options);
+        const std::string warning = vdbi::runWarning(result.statistics);
+        if (!warning.empty()) addWarning(SOP_MESSAGE, warning.c_str());
         const vdbi::GeometryArrays arrays = vdbi::makeGeometryArrays(result.mesh);
 
         writeGeometry(*gdp, arrays);

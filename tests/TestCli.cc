@@ -127,7 +127,8 @@ TEST_F(TestCli, testWritesEveryFormat)
              "\"critical_faces\"", "\"critical_edges\"", "\"critical_vertices\"",
              "\"singular_vertices\"", "\"subdivision\"", "\"subdivided_voxels\"",
              "\"relabelled_subvoxels\"", "\"patches\"", "\"triangles\"", "\"vertices\"",
-             "\"stages\"", "\"total_seconds\"", "\"peak_memory_bytes\""})
+             "\"meeting_triangle_pairs\"", "\"stages\"", "\"total_seconds\"",
+             "\"peak_memory_bytes\""})
     {
         EXPECT_TRUE(contains(report, key)) << key << " in " << report;
     }
@@ -149,8 +150,8 @@ TEST_F(TestCli, testStats)
     ASSERT_EQ(r.status, 0) << r.err;
     for (const std::string line : {"labels", "critical faces", "critical edges",
              "critical vertices", "singular vertices", "subdivided voxels",
-             "relabelled subvoxels", "patches", "triangles", "vertices", "seconds", "read",
-             "total", "peak memory"})
+             "relabelled subvoxels", "patches", "triangles", "vertices", "meeting pairs",
+             "seconds", "read", "total", "peak memory"})
     {
         EXPECT_TRUE(contains(r.out, line)) << line << " in " << r.out;
     }

@@ -30,6 +30,7 @@ sampleReport(const std::string& input)
     report.statistics.patches = 68;
     report.statistics.triangles = 35120;
     report.statistics.vertices = 16475;
+    report.statistics.meetingPairs = 3;
     report.stages = {{"read", 0.25}, {"extraction", 1.5e-7}, {"write", 3.0}};
     report.totalSeconds = 4.75;
     report.peakMemoryBytes = 5'000'000'000ull; // beyond 32 bits
@@ -37,6 +38,15 @@ sampleReport(const std::string& input)
 }
 
 } // namespace
+
+TEST(TestRunReport, testRunWarning)
+{
+    vdbi::Statistics stats;
+    EXPECT_EQ(vdbi::runWarning(stats), "");
+    stats.meetingPairs = 4;
+    EXPECT_EQ(vdbi::runWarning(stats).rfind("4 pairs of remeshed triangles cross or touch", 0),
+              0u) << vdbi::runWarning(stats);
+}
 
 TEST(TestRunReport, testJsonReadsBack)
 {
@@ -61,6 +71,7 @@ TEST(TestRunReport, testJsonReadsBack)
     EXPECT_EQ(json.at("patches"), 68);
     EXPECT_EQ(json.at("triangles"), 35120);
     EXPECT_EQ(json.at("vertices"), 16475);
+    EXPECT_EQ(json.at("meeting_triangle_pairs"), 3);
     ASSERT_EQ(json.at("stages").size(), 3u);
     EXPECT_EQ(json.at("stages")[0].at("name"), "read");
     EXPECT_EQ(json.at("stages")[1].at("name"), "extraction");

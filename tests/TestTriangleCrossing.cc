@@ -2,6 +2,8 @@
 
 #include <vdbi/TriangleCrossing.h>
 
+#include <vdbi/CandidateGrid.h>
+
 #include "support/MeshIntersections.h"
 
 #include <gtest/gtest.h>
@@ -194,6 +196,49 @@ TEST_F(TestTriangleCrossing, testMeetIsSymmetric)
     const openvdb::Vec3I sTurned(1, 2, 0), tTurned(2, 3, 4);
     EXPECT_EQ(vdbi::trianglesMeet(points, sTurned, tTurned),
               vdbi::trianglesMeet(points, tTurned, sTurned));
+}
+
+TEST_F(TestTriangleCrossing, testFindMeetingPairs)
+{
+    // A closed tetrahedron (triangles 0-3) shares edges and corners only, and triangle 4 lies
+    // far away: no pair. Triangle 5, in the plane z = 0.25, cuts through the tetrahedron.
+    vdbi::InterfaceMesh mesh;
+    mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1},
+                   {5, 5, 5}, {6, 5, 5}, {5, 6, 5},
+                   {-1, -1, 0.25}, {2, -1, 0.25}, {-1, 2, 0.25}};
+    mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {4, 5, 6}};
+    EXPECT_TRUE(vdbi::findMeetingPairs(mesh, 1.0, false).empty());
+    mesh.triangles.emplace_back(7, 8, 9);
+    // It crosses the three side faces and misses the base (z = 0).
+    const vdbi::TrianglePairs expected = {{1, 5}, {2, 5}, {3, 5}};
+    EXPECT_EQ(vdbi::findMeetingPairs(mesh, 1.0, false), expected);
+    EXPECT_EQ(vdbi::findMeetingPairs(mesh, 0.3, true), expected); // other cells, threads
+
+    // Seeded random triangles: the grid finds exactly the pairs that testing every pair
+    // finds, for any cell size.
+    std::mt19937 rng(20261206);
+    std::uniform_real_distribution<double> where(0.0, 6.0), offset(-0.8, 0.8);
+    vdbi::InterfaceMesh cloud;
+    for (int t = 0; t < 300; ++t) {
+        const openvdb::Vec3d c(where(rng), where(rng), where(rng));
+        const auto first = std::uint32_t(cloud.points.size());
+        for (int k = 0; k < 3; ++k) {
+            cloud.points.push_back(c + openvdb::Vec3d(offset(rng), offset(rng), offset(rng)));
+        }
+        cloud.triangles.emplace_back(first, first + 1, first + 2);
+    }
+    vdbi::TrianglePairs all;
+    for (std::uint32_t f = 0; f < cloud.triangles.size(); ++f) {
+        for (std::uint32_t g = f + 1; g < cloud.triangles.size(); ++g) {
+            if (vdbi::trianglesMeet(cloud.points, cloud.triangles[f], cloud.triangles[g])) {
+                all.emplace_back(f, g);
+            }
+        }
+    }
+    ASSERT_GT(all.size(), 10u);
+    for (const double cell : {0.25, 1.0, 4.0}) {
+        EXPECT_EQ(vdbi::findMeetingPairs(cloud, cell, true), all) << "cells " << cell;
+    }
 }
 
 TEST_F(TestTriangleCrossing, testCountCrossings)

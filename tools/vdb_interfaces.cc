@@ -309,7 +309,7 @@ configure(CLI::App& app, Settings& s)
         ->excludes(noRemesh);
     app.add_flag("--stats", s.stats,
         "Print statistics to stdout: labels, critical\nelements, subdivided voxels, patches,\n"
-        "triangles, seconds per stage, peak memory");
+        "triangles, meeting triangle pairs, seconds\nper stage, peak memory");
     app.add_option("--report", s.reportPath, "Write the same statistics as JSON to FILE")
         ->type_name("FILE");
 }
@@ -527,6 +527,9 @@ run(const Settings& s)
     report.statistics = result.statistics;
     report.stages.insert(report.stages.end(), result.statistics.stageSeconds.begin(),
         result.statistics.stageSeconds.end());
+    // The mesh is still written (every other guarantee holds), but not silently.
+    const std::string warning = vdbi::runWarning(result.statistics);
+    if (!warning.empty()) std::cerr << PROGRAM << ": warning: " << warning << std::endl;
 
     clock = std::chrono::steady_clock::now();
     if (!s.output.empty()) {

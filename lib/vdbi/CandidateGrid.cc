@@ -3,6 +3,7 @@
 #include <vdbi/CandidateGrid.h>
 
 #include <vdbi/ParallelRanges.h>
+#include <vdbi/TriangleCrossing.h>
 
 #include <tbb/parallel_sort.h>
 
@@ -175,6 +176,17 @@ CandidateGrid::meetingPairs(const std::vector<char>& active, const MeetTest& mee
     };
     forEachChunk(count, CHUNK, threaded, search);
     return concatenate(perChunk);
+}
+
+TrianglePairs
+findMeetingPairs(const InterfaceMesh& mesh, double cellSize, bool threaded)
+{
+    const CandidateGrid grid(mesh, cellSize, 0.0, threaded);
+    TrianglePairs pairs = grid.allMeetingPairs([&mesh](std::uint32_t f, std::uint32_t g) {
+        return trianglesMeet(mesh.points, mesh.triangles[f], mesh.triangles[g]);
+    }, threaded);
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
 }
 
 } // namespace vdbi

@@ -132,6 +132,12 @@ private:
     std::vector<std::uint8_t, DefaultInitAllocator<std::uint8_t>> mCellStarts;
 };
 
+/// @brief Every pair (first < second) of triangles of @a mesh that meet other than in the
+/// corners and edges they share (trianglesMeet() of TriangleCrossing.h), ascending.
+/// @details One search over the whole mesh, on a grid of cells about @a cellSize wide (the
+/// edge length): what is left of the crossings that separation removes, counted afresh.
+TrianglePairs findMeetingPairs(const InterfaceMesh& mesh, double cellSize, bool threaded);
+
 } // namespace vdbi
 
 #endif // VDBI_CANDIDATE_GRID_HAS_BEEN_INCLUDED

@@ -143,7 +143,9 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
         remeshing.voxelSize = voxel;
         remeshing.threaded = options.repair.threaded;
         remeshing.interrupter = options.repair.interrupter;
-        result.mesh = remeshPatches(result.mesh, remeshing);
+        RemeshStatistics remeshStats;
+        result.mesh = remeshPatches(result.mesh, remeshing, &remeshStats);
+        stats.meetingPairs = remeshStats.meetingPairs;
         clock.stop();
     }
 
@@ -151,6 +153,14 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
     stats.triangles = result.mesh.triangles.size();
     stats.vertices = result.mesh.points.size();
     return result;
+}
+
+std::string
+runWarning(const Statistics& statistics)
+{
+    if (statistics.meetingPairs == 0) return "";
+    return std::to_string(statistics.meetingPairs) + " pairs of remeshed triangles cross or "
+        "touch (the extracted patches, without remeshing, never do)";
 }
 
 } // namespace vdbi

@@ -43,6 +43,9 @@ struct RemeshStatistics
     double referenceSeconds = 0.0;   ///< the reference surfaces of all patches
     double remeshingSeconds = 0.0;   ///< boundaries attached, rounds, output assembled
     double separationSeconds = 0.0;  ///< separation: moves, splits, flips and collapses
+    /// Pairs of output triangles that meet other than in shared corners and edges
+    /// (findMeetingPairs(), searched afresh at the end): 0 unless separation failed somewhere.
+    std::size_t meetingPairs = 0;
 };
 
 /// @brief Remeshes every patch to the target edge length, keeping every guarantee of the
@@ -94,7 +97,7 @@ struct RemeshStatistics
 /// @throw openvdb::ValueError if the edge length is not a finite number > 0
 /// @throw vdbi::TopologyError if the input is not a valid interface mesh
 /// @throw vdbi::Interrupted if the interrupter asks to stop
-/// @param statistics  if not null, receives the seconds per stage
+/// @param statistics  if not null, receives the seconds per stage and the meeting pairs left
 InterfaceMesh remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
                             RemeshStatistics* statistics = nullptr);
 

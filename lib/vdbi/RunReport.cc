@@ -35,7 +35,8 @@ countsOf(const Statistics& st)
         {"relabelled subvoxels", "relabelled_subvoxels", st.relabelledSubvoxels},
         {"patches", "patches", st.patches},
         {"triangles", "triangles", st.triangles},
-        {"vertices", "vertices", st.vertices}};
+        {"vertices", "vertices", st.vertices},
+        {"meeting pairs", "meeting_triangle_pairs", st.meetingPairs}};
 }
 
 } // namespace
