@@ -6,10 +6,13 @@
 #include "support/HandMadeMeshes.h"
 #include "support/MeshIntersections.h"
 
+#include <vdbi/FaceCentreCoverage.h>
 #include <vdbi/PatchSeparation.h>
+#include <vdbi/RawPatchDistance.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <set>
@@ -584,4 +587,83 @@ TEST_F(TestPatchSeparation, testSplitPrefersMidpointsNearTheSource)
         ASSERT_EQ(mesh.points.size(), points.size() + 1);
         EXPECT_EQ(mesh.points.back(), withSource ? Vec3d(2.5, 1, 0) : Vec3d(2, 0, 0));
     }
+}
+
+namespace {
+
+/// Patch (1, 2): a tent of six triangles around free apex 0 at height @a apex over a locked
+/// hexagon of radius 2 at z = 0; its source, the unit voxel face around the origin at z = 0.
+vdbi::InterfaceMesh
+tentOverFace(double apex, vdbi::InterfaceMesh& raw)
+{
+    std::vector<Vec3d> points = {Vec3d(0, 0, apex)};
+    for (int k = 0; k < 6; ++k) {
+        const double angle = k * M_PI / 3.0;
+        points.emplace_back(2.0 * std::cos(angle), 2.0 * std::sin(angle), 0.0);
+    }
+    raw = makeMesh({Vec3d(-0.5, -0.5, 0), Vec3d(0.5, -0.5, 0), Vec3d(0.5, 0.5, 0),
+                    Vec3d(-0.5, 0.5, 0)},
+                   {{1, 2, {Vec3I(0, 1, 2), Vec3I(0, 2, 3)}}});
+    return makeMesh(points, {{1, 2, hexagonFan()}});
+}
+
+} // namespace
+
+// The voxel face's centre, the origin, lies 3 * sqrt(3) / sqrt(12) = 1.5 from the tent of
+// height 3. The apex goes down towards it by eighths of the way: at height 1.125 (five
+// eighths) the tent comes within sqrt(3) * 1.125 / sqrt(3 + 1.125^2) = 0.943 of it, under
+// the limit 0.95; at 1.5 (four eighths) it stays 1.134 away.
+TEST_F(TestPatchSeparation, testPullTowardsFaceCentres)
+{
+    vdbi::InterfaceMesh raw;
+    vdbi::InterfaceMesh mesh = tentOverFace(3.0, raw);
+    const std::vector<vdbi::FaceCentre> far =
+        vdbi::findFarFaceCentres(raw, mesh, Vec3d(1.0), 0.95);
+    ASSERT_EQ(far.size(), 1u);
+    EXPECT_EQ(far[0].point, Vec3d(0, 0, 0));
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 4.0);
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 2.0;
+    settings.source = &source;
+    settings.sourceLimit = 0.95;
+    std::vector<std::uint8_t> movable(7, 0);
+    movable[0] = 1;
+    EXPECT_EQ(vdbi::pullTowardsFaceCentres(mesh, movable, settings, far), 0u);
+    EXPECT_TRUE(mesh.points[0].eq(Vec3d(0, 0, 1.125), 1e-12)) << mesh.points[0];
+    EXPECT_TRUE(vdbi::findFarFaceCentres(raw, mesh, Vec3d(1.0), 0.95).empty());
+    // Within the limit now: a second pull moves nothing.
+    EXPECT_EQ(vdbi::pullTowardsFaceCentres(mesh, movable, settings, far), 0u);
+    EXPECT_TRUE(mesh.points[0].eq(Vec3d(0, 0, 1.125), 1e-12)) << mesh.points[0];
+    // Not farther than maxMove: the apex cannot get there.
+    vdbi::InterfaceMesh high = tentOverFace(3.0, raw);
+    settings.maxMove = 1.5;
+    EXPECT_EQ(vdbi::pullTowardsFaceCentres(high, movable, settings, far), 1u);
+    EXPECT_EQ(high.points[0], Vec3d(0, 0, 3.0));
+}
+
+// As above, with a locked triangle of patch (3, 4) level at z = 0.6 inside the tent, its
+// corners 1.2 from the axis: with the apex at 1.125 the tent's sides would pass through it,
+// so the centre stays far and nothing moves.
+TEST_F(TestPatchSeparation, testPullToFaceCentreAddsNoMeetingPair)
+{
+    vdbi::InterfaceMesh raw;
+    vdbi::InterfaceMesh tent = tentOverFace(3.0, raw);
+    std::vector<Vec3d> points(tent.points.begin(), tent.points.end());
+    points.insert(points.end(), {Vec3d(1.2, 0, 0.6), Vec3d(-0.6, 1.04, 0.6),
+                                 Vec3d(-0.6, -1.04, 0.6)});
+    vdbi::InterfaceMesh mesh = makeMesh(points, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
+    ASSERT_TRUE(intersectingPairs(mesh).empty());
+    const std::vector<vdbi::FaceCentre> far =
+        vdbi::findFarFaceCentres(raw, mesh, Vec3d(1.0), 0.95);
+    ASSERT_EQ(far.size(), 1u);
+    vdbi::RawPatchDistance source(raw, Vec3d(1.0), 4.0);
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 2.0;
+    settings.source = &source;
+    settings.sourceLimit = 0.95;
+    std::vector<std::uint8_t> movable(points.size(), 0);
+    movable[0] = 1;
+    EXPECT_EQ(vdbi::pullTowardsFaceCentres(mesh, movable, settings, far), 1u);
+    EXPECT_TRUE(std::equal(points.begin(), points.end(), mesh.points.begin()));
+    EXPECT_TRUE(intersectingPairs(mesh).empty());
 }

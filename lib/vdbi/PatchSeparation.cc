@@ -5,6 +5,7 @@
 #include <vdbi/CandidateGrid.h>
 #include <vdbi/FanShape.h>
 #include <vdbi/GuardedMoves.h>
+#include <vdbi/ReferenceSurface.h>
 #include <vdbi/TriangleCrossing.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@ namespace vdbi {
 namespace {
 
 using Vec3d = openvdb::Vec3d;
+
 
 /// The 26 unit directions from a point of the integer lattice to its neighbours.
 const std::array<Vec3d, 26>&
@@ -127,6 +129,63 @@ public:
         for (int eighths = firstWithin - 1; eighths >= 1; --eighths) {
             if (moveTo(v, here + (hit.point - here) * (eighths / 8.0), normal, meetings)) {
                 return true;
+            }
+        }
+        return false;
+    }
+
+    /// @brief pullTowardsFaceCentres() of one centre @a q (voxel units) of patch @a patch.
+    /// @return whether it lies within the limit of the patch afterwards
+    bool pullTowardsCentre(std::uint32_t patch, const Vec3d& q)
+    {
+        RawPatchDistance& source = *mSettings.source;
+        const double limit = mSettings.sourceLimit;
+        // The nearest triangle of the patch: within twice the limit, its box is in the cells
+        // of the centre's box that wide.
+        std::uint32_t nearest = 0;
+        double distance = std::numeric_limits<double>::infinity();
+        Vec3d weights;
+        mGrid.forEachInBox(source.world(q - Vec3d(2.0 * limit)),
+                           source.world(q + Vec3d(2.0 * limit)), [&](std::uint32_t g) {
+            if (mPatchOf[g] != patch) return;
+            const RawPatchDistance::Corners t = source.corners(mMesh.points, mMesh.triangles[g]);
+            Vec3d bary;
+            const double d = (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).length();
+            if (d < distance || (d == distance && g < nearest)) {
+                nearest = g;
+                distance = d;
+                weights = bary;
+            }
+        });
+        if (distance <= limit) return true;
+        if (!std::isfinite(distance)) return false;
+        // Only the triangles around a moved corner change: the centre comes within the limit
+        // of one of them, or of none. The free corners, the one nearest to the centre's
+        // nearest point first, each towards the centre by eighths of the way, the nearest
+        // place that brings it within the limit first.
+        int order[3] = {0, 1, 2};
+        std::sort(order, order + 3, [&](int a, int b) {
+            return weights[a] > weights[b] || (weights[a] == weights[b] && a < b);
+        });
+        const Vec3d centre = source.world(q);
+        for (const int k : order) {
+            const std::uint32_t v = mMesh.triangles[nearest][k];
+            if (!mMovable[v] || mStart[v] == mStart[v + 1]) continue;
+            const Vec3d here = mMesh.points[v], normal = vertexNormal(v);
+            const std::size_t meetings = meetingsAround(v, &mMeetingHere);
+            for (int eighths = 1; eighths <= 8; ++eighths) {
+                const Vec3d next = here + (centre - here) * (eighths / 8.0);
+                mMesh.points[v] = next;
+                bool covers = false;
+                for (std::uint32_t i = mStart[v]; i < mStart[v + 1] && !covers; ++i) {
+                    const std::uint32_t f = mAround[i];
+                    covers = mPatchOf[f] == patch
+                        && RawPatchDistance::isWithin(q, source.corners(mMesh.points,
+                                                                        mMesh.triangles[f]),
+                                                      limit);
+                }
+                mMesh.points[v] = here;
+                if (covers && moveTo(v, next, normal, meetings)) return true;
             }
         }
         return false;
@@ -412,6 +471,20 @@ pullTowardsSource(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
     std::size_t moved = 0;
     for (const std::uint32_t v : far) moved += separation.pullTowardsSource(v);
     return moved;
+}
+
+
+std::size_t
+pullTowardsFaceCentres(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                       const SeparationSettings& settings, const std::vector<FaceCentre>& centres)
+{
+    if (centres.empty()) return 0;
+    Separation separation(mesh, movable, settings, nullptr);
+    std::size_t far = 0;
+    for (const FaceCentre& c : centres) {
+        far += !separation.pullTowardsCentre(c.patch, settings.source->scaled(c.point));
+    }
+    return far;
 }
 
 

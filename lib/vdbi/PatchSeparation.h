@@ -8,6 +8,7 @@
 #define VDBI_PATCH_SEPARATION_HAS_BEEN_INCLUDED
 
 #include <vdbi/CandidateGrid.h>
+#include <vdbi/FaceCentreCoverage.h>
 #include <vdbi/InterfaceMesh.h>
 #include <vdbi/RawPatchDistance.h>
 
@@ -134,6 +135,24 @@ std::size_t separateAround(InterfaceMesh& mesh, const std::vector<std::uint8_t>&
 std::size_t pullTowardsSource(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                               const SeparationSettings& settings,
                               const std::vector<std::uint32_t>& points);
+
+/// @brief Brings each of @a centres (voxel face centres farther than settings.sourceLimit
+/// from their patch: findFarFaceCentres()) within the limit of its patch where one move of a
+/// free corner of the patch's nearest triangle does: the corner nearest to the centre's
+/// nearest point first, towards the centre by eighths of the way, to the nearest place that
+/// brings it within the limit.
+/// @details Remeshing keeps its surface near the smoothed staircase, not near the face
+/// centres: at long edge lengths it can leave the centre of a thin tip's face over a voxel
+/// from the patch (frog at 4 voxels, had the extraction kept the untouched voxels of a
+/// repair whole: 1.005 voxels). A move passes separation's guards (settings.source must be
+/// set): no triangle turned over, within settings.maxMove of where the point was, the point
+/// within the limit of its source or no farther, the centres within the limit kept there, no
+/// pair of triangles meeting that did not. Serial, in the order of @a centres: the result
+/// depends on the mesh alone.
+/// @return the number of centres left farther than the limit
+std::size_t pullTowardsFaceCentres(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
+                                   const SeparationSettings& settings,
+                                   const std::vector<FaceCentre>& centres);
 
 /// @brief After separation: each of @a points (movable, inner) with a triangle under
 /// SHARP_TRIANGLE_DEGREES (FanShape.h) moves a short step aside in the plane of its normal,

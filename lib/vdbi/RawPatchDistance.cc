@@ -45,6 +45,17 @@ voxelFaceCentre(const Vec3d& a, const Vec3d& b, const Vec3d& c)
 }
 
 
+bool
+ownsFaceCentre(const Vec3d (&corner)[3], const Vec3d& centre)
+{
+    for (int i = 0; i < 3; ++i) {
+        const Vec3d &p = corner[i], &q = corner[(i + 1) % 3];
+        if (0.5 * (p + q) == centre) return p < q;
+    }
+    return true;
+}
+
+
 namespace {
 
 bool
@@ -52,21 +63,6 @@ isInBox(const Vec3d& q, const Vec3d& low, const Vec3d& high)
 {
     return q[0] >= low[0] && q[1] >= low[1] && q[2] >= low[2] && q[0] <= high[0]
         && q[1] <= high[1] && q[2] <= high[2];
-}
-
-/// @brief Is @a centre, the voxelFaceCentre() of the triangle with corners @a corner, this
-/// triangle's to report? Both halves of a face give the midpoint of their shared diagonal,
-/// exactly, and run along it in opposite directions: the half that runs from the smaller
-/// corner reports it. (The centre of a fan, a corner of each of its triangles, is reported
-/// by each: they are few.)
-bool
-ownsCentre(const Vec3d (&corner)[3], const Vec3d& centre)
-{
-    for (int i = 0; i < 3; ++i) {
-        const Vec3d &p = corner[i], &q = corner[(i + 1) % 3];
-        if (0.5 * (p + q) == centre) return p < q;
-    }
-    return true;
 }
 
 } // namespace
@@ -230,7 +226,7 @@ RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const V
                     const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
                     const Vec3d centroid = (corner[0] + corner[1] + corner[2]) / 3.0;
                     if (isInBox(centroid, low, high)) points.push_back(centroid);
-                    if (isInBox(centre, low, high) && ownsCentre(corner, centre)) {
+                    if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre)) {
                         points.push_back(centre);
                     }
                 }

@@ -27,6 +27,13 @@ namespace vdbi {
 openvdb::Vec3d voxelFaceCentre(const openvdb::Vec3d& a, const openvdb::Vec3d& b,
                                const openvdb::Vec3d& c);
 
+/// @brief Is @a centre, the voxelFaceCentre() of the triangle with corners @a corner, this
+/// triangle's to report? Both halves of a face give the midpoint of their shared diagonal,
+/// exactly, and run along it in opposite directions: the half that runs from the smaller
+/// corner reports it. (The centre of a fan, a corner of each of its triangles, is reported
+/// by each: they are few.)
+bool ownsFaceCentre(const openvdb::Vec3d (&corner)[3], const openvdb::Vec3d& centre);
+
 /// @brief Distances from points to the raw patches, measured in voxels along each axis (as
 /// the tests measure closeness), exactly up to a radius.
 /// @details A patch's triangles are sorted into cells of one voxel by their centroids when a

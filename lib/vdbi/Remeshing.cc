@@ -3,6 +3,7 @@
 #include <vdbi/Remeshing.h>
 
 #include <vdbi/ChordOwners.h>
+#include <vdbi/FaceCentreCoverage.h>
 #include <vdbi/FeatureCurves.h>
 #include <vdbi/Interruption.h>
 #include <vdbi/IsotropicRemeshing.h>
@@ -251,6 +252,31 @@ pullFarPoints(InterfaceMesh& mesh, const std::vector<std::uint8_t>& inner,
     pullTowardsSource(mesh, inner, pull, far);
 }
 
+/// pullTowardsFaceCentres() of the voxel face centres over CLOSENESS_LIMIT voxels from
+/// their patch. After the moves that may take the surface from centres over their own
+/// bounds (shapeSharpFans() guards only those within SHAPING_LIMIT); the collapses after it
+/// keep every centre within CLOSENESS_LIMIT there.
+void
+pullToFarFaceCentres(InterfaceMesh& mesh, std::vector<std::uint8_t> inner,
+                     const InterfaceMesh& raw, RawPatchDistance& rawDistance,
+                     const RemeshOptions& options, const Vec3d& voxel)
+{
+    const std::vector<FaceCentre> far =
+        findFarFaceCentres(raw, mesh, voxel, CLOSENESS_LIMIT, options.threaded);
+    if (far.empty()) return;
+    // The points a last separation cycle split and did not keep are gone from the mesh.
+    inner.resize(mesh.points.size());
+    SeparationSettings pull;
+    pull.cellSize = options.edgeLength;
+    pull.maxMove =
+        RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT * std::max({voxel[0], voxel[1], voxel[2]});
+    pull.threaded = options.threaded;
+    pull.source = &rawDistance;
+    pull.sourceLimit = CLOSENESS_LIMIT;
+    pull.sourceUnit = std::min({voxel[0], voxel[1], voxel[2]});
+    pullTowardsFaceCentres(mesh, inner, pull, far);
+}
+
 /// shapeSharpFans() of every inner point, after separation: the fans that remeshing left
 /// sharp next to a tight part of a patch boundary (where a patch alone cannot see the others),
 /// and those whose moves the reference surface's guards refused, within SHAPING_LIMIT of the
@@ -450,6 +476,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     }
     pullFarPoints(out, inner, far, rawDistance, options, voxel);
     shapeFansAcrossPatches(out, inner, left, rawDistance, options, smallestVoxel);
+    pullToFarFaceCentres(out, inner, raw, rawDistance, options, voxel);
     // Knots that no move or flip frees: collapse free corners; then short edges, every patch
     // in sight (last: it renumbers points).
     ShortEdgeCollapseSettings shortEdges;

@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: Apache-2.0
+
+#include <vdbi/FaceCentreCoverage.h>
+
+#include <vdbi/CandidateGrid.h>
+#include <vdbi/RawPatchDistance.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace vdbi {
+
+namespace {
+
+using Vec3d = openvdb::Vec3d;
+
+/// Groups of cells findFarCentresOfPatch() keeps the triangles of.
+constexpr std::size_t CACHED_GROUPS = 509;
+
+/// The far centres of patch @a p (see findFarFaceCentres()), appended to @a far.
+void
+findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::size_t p,
+                      const Vec3d& voxel, double limit, std::vector<FaceCentre>& far)
+{
+    const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
+    auto scaled = [&](const Vec3d& w) {
+        return Vec3d(w[0] * inverse[0], w[1] * inverse[1], w[2] * inverse[2]);
+    };
+    const InterfacePatch &rp = raw.patches[p], &op = mesh.patches[p];
+    // The patch's triangles in voxel units, and (cell, triangle) for every cell their
+    // bounding boxes overlap, by cell.
+    const double cellInverse = 1.0 / (2.0 * limit);
+    std::vector<RawPatchDistance::Corners> triangles(op.triangleCount);
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
+    entries.reserve(2 * op.triangleCount);
+    for (std::size_t k = 0; k < op.triangleCount; ++k) {
+        const openvdb::Vec3I& t = mesh.triangles[op.firstTriangle + k];
+        RawPatchDistance::Corners& c = triangles[k];
+        for (int i = 0; i < 3; ++i) c.c[i] = scaled(mesh.points[t[i]]);
+        const Vec3d low = openvdb::math::minComponent(c.c[0], openvdb::math::minComponent(
+            c.c[1], c.c[2]));
+        const Vec3d high = openvdb::math::maxComponent(c.c[0], openvdb::math::maxComponent(
+            c.c[1], c.c[2]));
+        const openvdb::Vec3i lowCell = cellOf(low, cellInverse), highCell = cellOf(high, cellInverse);
+        for (int x = lowCell[0]; x <= highCell[0]; ++x) {
+            for (int y = lowCell[1]; y <= highCell[1]; ++y) {
+                for (int z = lowCell[2]; z <= highCell[2]; ++z) {
+                    entries.emplace_back(cellKey(openvdb::Vec3i(x, y, z)), std::uint32_t(k));
+                }
+            }
+        }
+    }
+    std::sort(entries.begin(), entries.end());
+
+    // Raw triangles come block by block: the centres of a block look at a few groups of
+    // cells, again and again. Each group's triangles are gathered once into a small cache.
+    struct Group
+    {
+        openvdb::Vec3i cell{std::numeric_limits<int>::min()};
+        std::vector<std::uint32_t> triangles;
+    };
+    std::vector<Group> cache(CACHED_GROUPS);
+    std::size_t lastNear = triangles.size();
+    for (std::size_t t = rp.firstTriangle; t < rp.firstTriangle + rp.triangleCount; ++t) {
+        const openvdb::Vec3I& tri = raw.triangles[t];
+        const Vec3d corner[3] = {scaled(raw.points[tri[0]]), scaled(raw.points[tri[1]]),
+                                 scaled(raw.points[tri[2]])};
+        const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
+        if (!ownsFaceCentre(corner, centre)) continue;
+        const openvdb::Vec3i lowCell = cellOf(centre - Vec3d(limit), cellInverse);
+        Group& group = cache[cellKey(lowCell) % CACHED_GROUPS];
+        if (group.cell != lowCell) {
+            group.cell = lowCell;
+            group.triangles.clear();
+            for (int x = 0; x < 2; ++x) {
+                for (int y = 0; y < 2; ++y) {
+                    for (int z = 0; z < 2; ++z) {
+                        const std::uint64_t key = cellKey(lowCell + openvdb::Vec3i(x, y, z));
+                        auto it = std::lower_bound(entries.begin(), entries.end(),
+                                                   std::make_pair(key, std::uint32_t(0)));
+                        for (; it != entries.end() && it->first == key; ++it) {
+                            group.triangles.push_back(it->second);
+                        }
+                    }
+                }
+            }
+        }
+        const std::vector<std::uint32_t>& candidates = group.triangles;
+        // The triangle that held the centre before mostly holds this one too.
+        bool near = lastNear < triangles.size()
+            && RawPatchDistance::isWithin(centre, triangles[lastNear], limit);
+        for (std::size_t i = 0; i < candidates.size() && !near; ++i) {
+            const std::uint32_t k = candidates[i];
+            if (RawPatchDistance::isWithin(centre, triangles[k], limit)) {
+                near = true;
+                lastNear = k;
+            }
+        }
+        if (!near) {
+            far.push_back({std::uint32_t(p), Vec3d(centre[0] * voxel[0], centre[1] * voxel[1],
+                                                   centre[2] * voxel[2])});
+        }
+    }
+}
+
+} // namespace
+
+
+std::vector<FaceCentre>
+findFarFaceCentres(const InterfaceMesh& raw, const InterfaceMesh& mesh, const Vec3d& voxel,
+                   double limit, bool threaded)
+{
+    const std::size_t count = std::min(raw.patches.size(), mesh.patches.size());
+    std::vector<std::vector<FaceCentre>> perPatch(count);
+    auto body = [&](std::size_t p) {
+        findFarCentresOfPatch(raw, mesh, p, voxel, limit, perPatch[p]);
+    };
+    if (threaded) {
+        tbb::parallel_for(std::size_t(0), count, body);
+    } else {
+        for (std::size_t p = 0; p < count; ++p) body(p);
+    }
+    std::vector<FaceCentre> far;
+    for (const std::vector<FaceCentre>& centres : perPatch) {
+        far.insert(far.end(), centres.begin(), centres.end());
+    }
+    return far;
+}
+
+} // namespace vdbi
