@@ -78,15 +78,19 @@ struct RemeshStatistics
 /// 6. An inner edge of a triangle that still meets another is flipped where the other
 ///    diagonal of its two triangles meets fewer (flipMeetingEdges()).
 /// 7. Where pairs are left, steps 5 and 6 run again with a bound of 0.5 voxel, then once
-///    more with the inner curve samples moving too (junctions stay), each kept only if it
-///    leaves fewer pairs.
+///    more with the inner curve samples moving too (junctions stay), then with a bound of
+///    0.75 voxel, each kept only if it leaves fewer pairs.
 /// 8. Free vertices of fans with an angle under 30 degrees step aside where their fans get
 ///    better and no pair of triangles of any patches comes to meet, within 0.8 voxel of the
 ///    voxel faces (shapeSharpFans(): the fans that step 4 left next to tight curves, where a
 ///    patch cannot see the others, and those the reference surface's guards kept).
-/// 9. Where pairs are still left, a free corner of a meeting triangle is collapsed into a
+/// 9. Voxel face centres left over 0.95 voxel from their patch (findFarFaceCentres(): step 4
+///    keeps the surface near the smoothed staircase, not near the centres, and a thin tip
+///    can end up a voxel away) each pull a free corner of the patch's nearest triangle
+///    towards them where no guard of step 5 objects (pullTowardsFaceCentres()).
+/// 10. Where pairs are still left, a free corner of a meeting triangle is collapsed into a
 ///    neighbour where that leaves fewer (collapseMeetingEdges(): knots of one patch).
-/// 10. Edges under half the target with a free end are collapsed, every patch in sight: where
+/// 11. Edges under half the target with a free end are collapsed, every patch in sight: where
 ///    no edge over 1.5 x target, no fold, no meeting pair, no sharper fan results, the voxel
 ///    faces stay covered, and a new edge between two samples is their chordOwner()'s
 ///    (collapseMeetingAndShortEdges(): what step 4 left where a patch could not see the
