@@ -8,8 +8,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
+#include <limits>
 #include <utility>
+#include <vector>
 
 namespace vdbi {
 
@@ -44,7 +45,8 @@ findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::
             c.c[1], c.c[2]));
         const Vec3d high = openvdb::math::maxComponent(c.c[0], openvdb::math::maxComponent(
             c.c[1], c.c[2]));
-        const openvdb::Vec3i lowCell = cellOf(low, cellInverse), highCell = cellOf(high, cellInverse);
+        const openvdb::Vec3i lowCell = cellOf(low, cellInverse);
+        const openvdb::Vec3i highCell = cellOf(high, cellInverse);
         for (int x = lowCell[0]; x <= highCell[0]; ++x) {
             for (int y = lowCell[1]; y <= highCell[1]; ++y) {
                 for (int z = lowCell[2]; z <= highCell[2]; ++z) {

@@ -20,7 +20,6 @@ namespace {
 
 using Vec3d = openvdb::Vec3d;
 
-
 /// The 26 unit directions from a point of the integer lattice to its neighbours.
 const std::array<Vec3d, 26>&
 latticeDirections()
@@ -150,7 +149,8 @@ public:
             if (mPatchOf[g] != patch) return;
             const RawPatchDistance::Corners t = source.corners(mMesh.points, mMesh.triangles[g]);
             Vec3d bary;
-            const double d = (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).length();
+            const Vec3d p = closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary);
+            const double d = (p - q).length();
             if (d < distance || (d == distance && g < nearest)) {
                 nearest = g;
                 distance = d;
