@@ -64,6 +64,17 @@ unitSettings()
     return settings;
 }
 
+/// unitSettings() for the pulls: moves up to 2, kept within 0.95 of @a source.
+vdbi::SeparationSettings
+pullSettings(vdbi::RawPatchDistance& source)
+{
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.maxMove = 2.0;
+    settings.source = &source;
+    settings.sourceLimit = 0.95;
+    return settings;
+}
+
 /// Patch (1, 2): a square of two triangles (0, 1, 2) and (0, 2, 3) in the plane z = 0;
 /// patch (1, 3): a small triangle (4, 5, 6) standing through the first one, near the diagonal.
 vdbi::InterfaceMesh
@@ -520,10 +531,7 @@ TEST_F(TestPatchSeparation, testPullTowardsSource)
     const vdbi::InterfaceMesh raw = makeMesh(hexagonPoints(Vec3d(0, 0, 0)),
                                              {{1, 2, hexagonFan()}});
     vdbi::RawPatchDistance source(raw, Vec3d(1.0), 2.0);
-    vdbi::SeparationSettings settings = unitSettings();
-    settings.maxMove = 2.0;
-    settings.source = &source;
-    settings.sourceLimit = 0.95;
+    vdbi::SeparationSettings settings = pullSettings(source);
     std::vector<std::uint8_t> movable(7, 0);
     movable[0] = 1;
     EXPECT_EQ(vdbi::pullTowardsSource(mesh, movable, settings, {0}), 1u);
@@ -546,10 +554,7 @@ TEST_F(TestPatchSeparation, testPullAddsNoMeetingPair)
     const vdbi::InterfaceMesh raw =
         makeMesh(rawPoints, {{1, 2, hexagonFan()}, {3, 4, {Vec3I(7, 8, 9)}}});
     vdbi::RawPatchDistance source(raw, Vec3d(1.0), 2.0);
-    vdbi::SeparationSettings settings = unitSettings();
-    settings.maxMove = 2.0;
-    settings.source = &source;
-    settings.sourceLimit = 0.95;
+    vdbi::SeparationSettings settings = pullSettings(source);
     std::vector<std::uint8_t> movable(points.size(), 0);
     movable[0] = 1;
     EXPECT_EQ(vdbi::pullTowardsSource(mesh, movable, settings, {0}), 1u);
@@ -622,10 +627,7 @@ TEST_F(TestPatchSeparation, testPullTowardsFaceCentres)
     ASSERT_EQ(far.size(), 1u);
     EXPECT_EQ(far[0].point, Vec3d(0, 0, 0));
     vdbi::RawPatchDistance source(raw, Vec3d(1.0), 4.0);
-    vdbi::SeparationSettings settings = unitSettings();
-    settings.maxMove = 2.0;
-    settings.source = &source;
-    settings.sourceLimit = 0.95;
+    vdbi::SeparationSettings settings = pullSettings(source);
     std::vector<std::uint8_t> movable(7, 0);
     movable[0] = 1;
     EXPECT_EQ(vdbi::pullTowardsFaceCentres(mesh, movable, settings, far), 0u);
@@ -657,10 +659,7 @@ TEST_F(TestPatchSeparation, testPullToFaceCentreAddsNoMeetingPair)
         vdbi::findFarFaceCentres(raw, mesh, Vec3d(1.0), 0.95);
     ASSERT_EQ(far.size(), 1u);
     vdbi::RawPatchDistance source(raw, Vec3d(1.0), 4.0);
-    vdbi::SeparationSettings settings = unitSettings();
-    settings.maxMove = 2.0;
-    settings.source = &source;
-    settings.sourceLimit = 0.95;
+    vdbi::SeparationSettings settings = pullSettings(source);
     std::vector<std::uint8_t> movable(points.size(), 0);
     movable[0] = 1;
     EXPECT_EQ(vdbi::pullTowardsFaceCentres(mesh, movable, settings, far), 1u);

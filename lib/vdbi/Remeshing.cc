@@ -238,12 +238,9 @@ separateSplitAndFlip(InterfaceMesh& mesh, std::vector<std::uint8_t>& inner,
                      settings.source, settings.sourceLimit);
 }
 
-/// pullTowardsSource() of the inner points @a far that lie over CLOSENESS_LIMIT voxels from
-/// their raw patch.
-void
-pullFarPoints(InterfaceMesh& mesh, const std::vector<std::uint8_t>& inner,
-              const std::vector<std::uint32_t>& far, RawPatchDistance& rawDistance,
-              const RemeshOptions& options, const Vec3d& voxel)
+/// The settings of the pulls towards the voxel faces: within CLOSENESS_LIMIT of them.
+SeparationSettings
+pullSettings(RawPatchDistance& rawDistance, const RemeshOptions& options, const Vec3d& voxel)
 {
     SeparationSettings pull;
     pull.cellSize = options.edgeLength;
@@ -254,7 +251,17 @@ pullFarPoints(InterfaceMesh& mesh, const std::vector<std::uint8_t>& inner,
     pull.source = &rawDistance;
     pull.sourceLimit = CLOSENESS_LIMIT;
     pull.sourceUnit = std::min({voxel[0], voxel[1], voxel[2]});
-    pullTowardsSource(mesh, inner, pull, far);
+    return pull;
+}
+
+/// pullTowardsSource() of the inner points @a far that lie over CLOSENESS_LIMIT voxels from
+/// their raw patch.
+void
+pullFarPoints(InterfaceMesh& mesh, const std::vector<std::uint8_t>& inner,
+              const std::vector<std::uint32_t>& far, RawPatchDistance& rawDistance,
+              const RemeshOptions& options, const Vec3d& voxel)
+{
+    pullTowardsSource(mesh, inner, pullSettings(rawDistance, options, voxel), far);
 }
 
 /// pullTowardsFaceCentres() of the voxel face centres over CLOSENESS_LIMIT voxels from
@@ -271,15 +278,7 @@ pullToFarFaceCentres(InterfaceMesh& mesh, std::vector<std::uint8_t> inner,
     if (far.empty()) return;
     // The points a last separation cycle split and did not keep are gone from the mesh.
     inner.resize(mesh.points.size());
-    SeparationSettings pull;
-    pull.cellSize = options.edgeLength;
-    pull.maxMove =
-        RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT * std::max({voxel[0], voxel[1], voxel[2]});
-    pull.threaded = options.threaded;
-    pull.source = &rawDistance;
-    pull.sourceLimit = CLOSENESS_LIMIT;
-    pull.sourceUnit = std::min({voxel[0], voxel[1], voxel[2]});
-    pullTowardsFaceCentres(mesh, inner, pull, far);
+    pullTowardsFaceCentres(mesh, inner, pullSettings(rawDistance, options, voxel), far);
 }
 
 /// shapeSharpFans() of every inner point, after separation: the fans that remeshing left
