@@ -128,3 +128,62 @@ TEST_F(TestFaceCentreCoverage, testMatchesBruteForce)
         EXPECT_LT(expected.size(), rawFaces.size() / 2) << limit;
     }
 }
+
+// A patch large enough to be searched in several tasks (over 32768 raw triangles, in
+// parallel or not) finds exactly the centres that its two halves find as patches of their
+// own, each searched in one task.
+TEST_F(TestFaceCentreCoverage, testLargePatchEqualsItsHalves)
+{
+    std::mt19937 random(20261207);
+    std::uniform_int_distribution<int> step(-1, 1);
+    std::uniform_real_distribution<double> jitter(-1.5, 1.5);
+    constexpr int SIDE = 150;   // 45,000 raw triangles
+    std::vector<Vec3d> rawPoints;
+    std::vector<Vec3I> rawFaces;
+    int z = 0;
+    for (int x = 0; x < SIDE; ++x) {
+        for (int y = 0; y < SIDE; ++y) {
+            z += step(random);
+            const std::uint32_t first = std::uint32_t(rawPoints.size());
+            rawPoints.insert(rawPoints.end(), {Vec3d(x, y, z), Vec3d(x + 1, y, z),
+                                               Vec3d(x + 1, y + 1, z), Vec3d(x, y + 1, z)});
+            rawFaces.insert(rawFaces.end(), {Vec3I(first, first + 1, first + 2),
+                                             Vec3I(first, first + 2, first + 3)});
+        }
+    }
+    std::vector<Vec3d> points;
+    std::vector<Vec3I> triangles;
+    for (std::size_t face = 0; face < rawFaces.size() / 2; ++face) {
+        const Vec3d& anchor = rawPoints[4 * face];
+        const std::uint32_t first = std::uint32_t(points.size());
+        for (int i = 0; i < 3; ++i) {
+            points.push_back(anchor + Vec3d(jitter(random), jitter(random), jitter(random)));
+        }
+        triangles.emplace_back(first, first + 1, first + 2);
+    }
+    const std::size_t half = rawFaces.size() / 2;   // even: no face is cut in two
+    const std::vector<Vec3I> firstHalf(rawFaces.begin(), rawFaces.begin() + half);
+    const std::vector<Vec3I> secondHalf(rawFaces.begin() + half, rawFaces.end());
+    const vdbi::InterfaceMesh whole = vdbi_test::makeMesh(rawPoints, {{1, 2, rawFaces}});
+    const vdbi::InterfaceMesh halves =
+        vdbi_test::makeMesh(rawPoints, {{1, 2, firstHalf}, {1, 3, secondHalf}});
+    const vdbi::InterfaceMesh mesh = vdbi_test::makeMesh(points, {{1, 2, triangles}});
+    const vdbi::InterfaceMesh twice =
+        vdbi_test::makeMesh(points, {{1, 2, triangles}, {1, 3, triangles}});
+    auto pointsOf = [](const std::vector<vdbi::FaceCentre>& far) {
+        std::vector<Vec3d> found;
+        for (const vdbi::FaceCentre& c : far) found.push_back(c.point);
+        return found;
+    };
+    for (const double limit : {0.5, 0.95}) {
+        const std::vector<Vec3d> expected =
+            pointsOf(vdbi::findFarFaceCentres(halves, twice, Vec3d(1.0), limit, false));
+        EXPECT_GT(expected.size(), 100u) << limit;
+        EXPECT_LT(expected.size(), half / 2) << limit;   // of the 22,500 faces
+        for (const bool threaded : {false, true}) {
+            EXPECT_EQ(pointsOf(vdbi::findFarFaceCentres(whole, mesh, Vec3d(1.0), limit,
+                                                        threaded)),
+                      expected) << limit << " " << threaded;
+        }
+    }
+}

@@ -18,45 +18,68 @@ namespace {
 
 using Vec3d = openvdb::Vec3d;
 
-/// Groups of cells findFarCentresOfPatch() keeps the triangles of.
+/// Groups of cells a search keeps the triangles of.
 constexpr std::size_t CACHED_GROUPS = 509;
+/// Raw triangles per task: the largest patch (a third of the frog) is searched by both
+/// threads, not by one while the other waits.
+constexpr std::size_t TRIANGLES_PER_TASK = 1 << 15;
 
-/// The far centres of patch @a p (see findFarFaceCentres()), appended to @a far.
-void
-findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::size_t p,
-                      const Vec3d& voxel, double limit, std::vector<FaceCentre>& far)
+/// A remeshed patch's triangles in voxel units, and (cell, triangle) for every cell of
+/// two limits their bounding boxes overlap, by cell.
+struct PatchCells
 {
-    const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
-    auto scaled = [&](const Vec3d& w) {
-        return Vec3d(w[0] * inverse[0], w[1] * inverse[1], w[2] * inverse[2]);
-    };
-    const InterfacePatch &rp = raw.patches[p], &op = mesh.patches[p];
-    // The patch's triangles in voxel units, and (cell, triangle) for every cell their
-    // bounding boxes overlap, by cell.
-    const double cellInverse = 1.0 / (2.0 * limit);
-    std::vector<RawPatchDistance::Corners> triangles(op.triangleCount);
+    std::vector<RawPatchDistance::Corners> triangles;
     std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
-    entries.reserve(2 * op.triangleCount);
+    double cellInverse = 0.0;
+};
+
+Vec3d
+scaled(const Vec3d& w, const Vec3d& inverse)
+{
+    return Vec3d(w[0] * inverse[0], w[1] * inverse[1], w[2] * inverse[2]);
+}
+
+PatchCells
+cellsOfPatch(const InterfaceMesh& mesh, std::size_t p, const Vec3d& inverse, double limit)
+{
+    const InterfacePatch& op = mesh.patches[p];
+    PatchCells cells;
+    cells.cellInverse = 1.0 / (2.0 * limit);
+    cells.triangles.resize(op.triangleCount);
+    cells.entries.reserve(2 * op.triangleCount);
     for (std::size_t k = 0; k < op.triangleCount; ++k) {
         const openvdb::Vec3I& t = mesh.triangles[op.firstTriangle + k];
-        RawPatchDistance::Corners& c = triangles[k];
-        for (int i = 0; i < 3; ++i) c.c[i] = scaled(mesh.points[t[i]]);
+        RawPatchDistance::Corners& c = cells.triangles[k];
+        for (int i = 0; i < 3; ++i) c.c[i] = scaled(mesh.points[t[i]], inverse);
         const Vec3d low = openvdb::math::minComponent(c.c[0], openvdb::math::minComponent(
             c.c[1], c.c[2]));
         const Vec3d high = openvdb::math::maxComponent(c.c[0], openvdb::math::maxComponent(
             c.c[1], c.c[2]));
-        const openvdb::Vec3i lowCell = cellOf(low, cellInverse);
-        const openvdb::Vec3i highCell = cellOf(high, cellInverse);
+        const openvdb::Vec3i lowCell = cellOf(low, cells.cellInverse);
+        const openvdb::Vec3i highCell = cellOf(high, cells.cellInverse);
         for (int x = lowCell[0]; x <= highCell[0]; ++x) {
             for (int y = lowCell[1]; y <= highCell[1]; ++y) {
                 for (int z = lowCell[2]; z <= highCell[2]; ++z) {
-                    entries.emplace_back(cellKey(openvdb::Vec3i(x, y, z)), std::uint32_t(k));
+                    cells.entries.emplace_back(cellKey(openvdb::Vec3i(x, y, z)),
+                                               std::uint32_t(k));
                 }
             }
         }
     }
-    std::sort(entries.begin(), entries.end());
+    std::sort(cells.entries.begin(), cells.entries.end());
+    return cells;
+}
 
+/// The far centres (see findFarFaceCentres()) of raw triangles [@a begin, @a end) of patch
+/// @a p, appended to @a far.
+void
+findFarCentresIn(const InterfaceMesh& raw, const PatchCells& cells, std::size_t p,
+                 std::size_t begin, std::size_t end, const Vec3d& voxel, double limit,
+                 std::vector<FaceCentre>& far)
+{
+    const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
+    const std::vector<RawPatchDistance::Corners>& triangles = cells.triangles;
+    const auto& entries = cells.entries;
     // Raw triangles come block by block: the centres of a block look at a few groups of
     // cells, again and again. Each group's triangles are gathered once into a small cache.
     struct Group
@@ -66,13 +89,14 @@ findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::
     };
     std::vector<Group> cache(CACHED_GROUPS);
     std::size_t lastNear = triangles.size();
-    for (std::size_t t = rp.firstTriangle; t < rp.firstTriangle + rp.triangleCount; ++t) {
+    for (std::size_t t = begin; t < end; ++t) {
         const openvdb::Vec3I& tri = raw.triangles[t];
-        const Vec3d corner[3] = {scaled(raw.points[tri[0]]), scaled(raw.points[tri[1]]),
-                                 scaled(raw.points[tri[2]])};
+        const Vec3d corner[3] = {scaled(raw.points[tri[0]], inverse),
+                                 scaled(raw.points[tri[1]], inverse),
+                                 scaled(raw.points[tri[2]], inverse)};
         const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
         if (!ownsFaceCentre(corner, centre)) continue;
-        const openvdb::Vec3i lowCell = cellOf(centre - Vec3d(limit), cellInverse);
+        const openvdb::Vec3i lowCell = cellOf(centre - Vec3d(limit), cells.cellInverse);
         Group& group = cache[cellKey(lowCell) % CACHED_GROUPS];
         if (group.cell != lowCell) {
             group.cell = lowCell;
@@ -108,6 +132,34 @@ findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::
     }
 }
 
+/// The far centres of patch @a p, its raw triangles in tasks of TRIANGLES_PER_TASK.
+void
+findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::size_t p,
+                      const Vec3d& voxel, double limit, bool threaded,
+                      std::vector<FaceCentre>& far)
+{
+    const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
+    const PatchCells cells = cellsOfPatch(mesh, p, inverse, limit);
+    const InterfacePatch& rp = raw.patches[p];
+    const std::size_t tasks = (rp.triangleCount + TRIANGLES_PER_TASK - 1) / TRIANGLES_PER_TASK;
+    std::vector<std::vector<FaceCentre>> perTask(tasks);
+    auto body = [&](std::size_t k) {
+        const std::size_t begin = rp.firstTriangle + k * TRIANGLES_PER_TASK;
+        const std::size_t end = std::min(begin + TRIANGLES_PER_TASK,
+                                         rp.firstTriangle + rp.triangleCount);
+        findFarCentresIn(raw, cells, p, begin, end, voxel, limit, perTask[k]);
+    };
+    if (threaded && tasks > 1) {
+        tbb::parallel_for(std::size_t(0), tasks, body);
+    } else {
+        for (std::size_t k = 0; k < tasks; ++k) body(k);
+    }
+    // In the order of the raw triangles, on any number of threads.
+    for (const std::vector<FaceCentre>& centres : perTask) {
+        far.insert(far.end(), centres.begin(), centres.end());
+    }
+}
+
 } // namespace
 
 
@@ -118,7 +170,7 @@ findFarFaceCentres(const InterfaceMesh& raw, const InterfaceMesh& mesh, const Ve
     const std::size_t count = std::min(raw.patches.size(), mesh.patches.size());
     std::vector<std::vector<FaceCentre>> perPatch(count);
     auto body = [&](std::size_t p) {
-        findFarCentresOfPatch(raw, mesh, p, voxel, limit, perPatch[p]);
+        findFarCentresOfPatch(raw, mesh, p, voxel, limit, threaded, perPatch[p]);
     };
     if (threaded) {
         tbb::parallel_for(std::size_t(0), count, body);

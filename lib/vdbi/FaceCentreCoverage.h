@@ -28,9 +28,10 @@ struct FaceCentre
 /// triangles.
 /// @details Remeshing keeps its surface near the smoothed staircase, not near the face
 /// centres themselves: at long edge lengths a thin tip can end up a little over a voxel
-/// away. Per patch (in parallel; the result does not depend on the number of threads) the
-/// triangles of @a mesh are sorted into cells two limits wide by their bounding boxes, so
-/// that the triangles within the limit of a centre lie in the 8 cells its box overlaps.
+/// away. Per patch the triangles of @a mesh are sorted into cells two limits wide by their
+/// bounding boxes, so that the triangles within the limit of a centre lie in the 8 cells its
+/// box overlaps; the patches, and the raw triangles of a large patch in runs of 32768, are
+/// searched in parallel (the result does not depend on the number of threads).
 /// @param raw    the extracted patches
 /// @param mesh   the same patches remeshed (same order)
 /// @param voxel  world size of a voxel per axis
