@@ -127,8 +127,8 @@ TEST_F(TestCli, testWritesEveryFormat)
              "\"critical_faces\"", "\"critical_edges\"", "\"critical_vertices\"",
              "\"singular_vertices\"", "\"subdivision\"", "\"subdivided_voxels\"",
              "\"relabelled_subvoxels\"", "\"patches\"", "\"triangles\"", "\"vertices\"",
-             "\"meeting_triangle_pairs\"", "\"stages\"", "\"total_seconds\"",
-             "\"peak_memory_bytes\""})
+             "\"meeting_triangle_pairs\"", "\"far_voxel_face_centres\"", "\"stages\"",
+             "\"total_seconds\"", "\"peak_memory_bytes\""})
     {
         EXPECT_TRUE(contains(report, key)) << key << " in " << report;
     }
@@ -151,7 +151,7 @@ TEST_F(TestCli, testStats)
     for (const std::string line : {"labels", "critical faces", "critical edges",
              "critical vertices", "singular vertices", "subdivided voxels",
              "relabelled subvoxels", "patches", "triangles", "vertices", "meeting pairs",
-             "seconds", "read", "total", "peak memory"})
+             "far face centres", "seconds", "read", "total", "peak memory"})
     {
         EXPECT_TRUE(contains(r.out, line)) << line << " in " << r.out;
     }

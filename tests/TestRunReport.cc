@@ -31,6 +31,7 @@ sampleReport(const std::string& input)
     report.statistics.triangles = 35120;
     report.statistics.vertices = 16475;
     report.statistics.meetingPairs = 3;
+    report.statistics.farFaceCentres = 2;
     report.stages = {{"read", 0.25}, {"extraction", 1.5e-7}, {"write", 3.0}};
     report.totalSeconds = 4.75;
     report.peakMemoryBytes = 5'000'000'000ull; // beyond 32 bits
@@ -45,6 +46,16 @@ TEST(TestRunReport, testRunWarning)
     EXPECT_EQ(vdbi::runWarning(stats), "");
     stats.meetingPairs = 4;
     EXPECT_EQ(vdbi::runWarning(stats).rfind("4 pairs of remeshed triangles cross or touch", 0),
+              0u) << vdbi::runWarning(stats);
+    EXPECT_EQ(vdbi::runWarning(stats).find("face centres"), std::string::npos);
+    // Both promises broken: one message naming both.
+    stats.farFaceCentres = 7;
+    const std::string both = vdbi::runWarning(stats);
+    EXPECT_EQ(both.rfind("4 pairs of remeshed triangles cross or touch", 0), 0u) << both;
+    EXPECT_NE(both.find("; 7 voxel face centres lie farther than one voxel from their remeshed "
+                        "patch"), std::string::npos) << both;
+    stats.meetingPairs = 0;
+    EXPECT_EQ(vdbi::runWarning(stats).rfind("7 voxel face centres lie farther than one voxel", 0),
               0u) << vdbi::runWarning(stats);
 }
 
@@ -72,6 +83,7 @@ TEST(TestRunReport, testJsonReadsBack)
     EXPECT_EQ(json.at("triangles"), 35120);
     EXPECT_EQ(json.at("vertices"), 16475);
     EXPECT_EQ(json.at("meeting_triangle_pairs"), 3);
+    EXPECT_EQ(json.at("far_voxel_face_centres"), 2);
     ASSERT_EQ(json.at("stages").size(), 3u);
     EXPECT_EQ(json.at("stages")[0].at("name"), "read");
     EXPECT_EQ(json.at("stages")[1].at("name"), "extraction");
@@ -100,7 +112,7 @@ TEST(TestRunReport, testTextHasEveryLine)
     const std::string text = os.str();
     for (const std::string line : {"labels                22\n", "critical edges        121\n",
              "singular vertices     8\n", "relabelled subvoxels  5490\n",
-             "triangles             35120\n", "seconds\n", "  read                0.250\n",
+             "triangles             35120\n", "far face centres      2\n", "seconds\n", "  read                0.250\n",
              "  write               3.000\n", "  total               4.750\n",
              "peak memory           4768.4 MiB\n"})
     {

@@ -309,7 +309,8 @@ configure(CLI::App& app, Settings& s)
         ->excludes(noRemesh);
     app.add_flag("--stats", s.stats,
         "Print statistics to stdout: labels, critical\nelements, subdivided voxels, patches,\n"
-        "triangles, meeting triangle pairs, seconds\nper stage, peak memory");
+        "triangles, meeting triangle pairs, far voxel\nface centres, seconds per stage, peak\n"
+        "memory");
     app.add_option("--report", s.reportPath, "Write the same statistics as JSON to FILE")
         ->type_name("FILE");
 }

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <string>
 
 namespace vdbi {
 
@@ -146,6 +147,7 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
         RemeshStatistics remeshStats;
         result.mesh = remeshPatches(result.mesh, remeshing, &remeshStats);
         stats.meetingPairs = remeshStats.meetingPairs;
+        stats.farFaceCentres = remeshStats.farFaceCentres;
         clock.stop();
     }
 
@@ -158,9 +160,17 @@ extractInterfaces(const openvdb::Int32Grid& grid, const Options& options)
 std::string
 runWarning(const Statistics& statistics)
 {
-    if (statistics.meetingPairs == 0) return "";
-    return std::to_string(statistics.meetingPairs) + " pairs of remeshed triangles cross or "
-        "touch (the extracted patches, without remeshing, never do)";
+    std::string warning;
+    if (statistics.meetingPairs > 0) {
+        warning = std::to_string(statistics.meetingPairs) + " pairs of remeshed triangles "
+            "cross or touch (the extracted patches, without remeshing, never do)";
+    }
+    if (statistics.farFaceCentres > 0) {
+        if (!warning.empty()) warning += "; ";
+        warning += std::to_string(statistics.farFaceCentres) + " voxel face centres lie "
+            "farther than one voxel from their remeshed patch";
+    }
+    return warning;
 }
 
 } // namespace vdbi

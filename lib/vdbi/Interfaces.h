@@ -54,6 +54,9 @@ struct Statistics
     /// After remeshing: pairs of triangles that meet (cross or touch) other than in shared
     /// corners and edges. 0 is the promise; more says where remeshing could not keep it.
     std::size_t meetingPairs = 0;
+    /// After remeshing: voxel face centres farther than one voxel from their patch. 0 is the
+    /// promise, as above.
+    std::size_t farFaceCentres = 0;
     /// Seconds per stage, in the order they ran.
     std::vector<std::pair<std::string, double>> stageSeconds;
 };
@@ -77,7 +80,8 @@ struct Result
 Result extractInterfaces(const openvdb::Int32Grid& grid, const Options& options = Options());
 
 /// What a finished run should tell its user (the CLI on stderr, the SOP as a node warning),
-/// or "" when nothing: so far, triangles left crossing or touching after remeshing.
+/// or "" when nothing: triangles left crossing or touching after remeshing, and voxel face
+/// centres left farther than one voxel from their patch.
 std::string runWarning(const Statistics& statistics);
 
 } // namespace vdbi

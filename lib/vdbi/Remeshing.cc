@@ -75,6 +75,9 @@ constexpr double SEPARATION_STEP = 0.1;
 /// (RawPatchDistance::keepsCovered()): a flip across a thin tip left a voxel face centre
 /// 1.028 voxels from the frog at 4 voxels (0.957 with the bound).
 constexpr double CLOSENESS_LIMIT = 0.95;
+/// What the output promises, in voxels along each axis: every voxel face centre within it of
+/// its remeshed patch (RemeshStatistics::farFaceCentres counts those that are not).
+constexpr double PROMISED_CLOSENESS = 1.0;
 /// @brief How far, in voxels, shapeSharpFans() may take a point or a face from the voxel
 /// faces (or farther than it was), and how far it may move a point, in target lengths (its
 /// largest step aside).
@@ -495,10 +498,12 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     shortEdges.source = &rawDistance;
     shortEdges.sourceLimit = CLOSENESS_LIMIT;
     collapseMeetingAndShortEdges(out, inner, shortEdges, left);
-    // Searched afresh rather than carried through the steps above: the count tells the
-    // user whether the output keeps its promise, so it must not rest on those steps' own.
+    // Searched afresh rather than carried through the steps above: the counts tell the
+    // user whether the output keeps its promises, so they must not rest on those steps' own.
     stats.meetingPairs =
         findMeetingPairs(out, options.edgeLength, options.threaded).size();
+    stats.farFaceCentres =
+        findFarFaceCentres(raw, out, voxel, PROMISED_CLOSENESS, options.threaded).size();
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;

@@ -46,6 +46,10 @@ struct RemeshStatistics
     /// Pairs of output triangles that meet other than in shared corners and edges
     /// (findMeetingPairs(), searched afresh at the end): 0 unless separation failed somewhere.
     std::size_t meetingPairs = 0;
+    /// Voxel face centres of the raw patches farther than one voxel (along each axis) from
+    /// their remeshed patch (findFarFaceCentres(), searched afresh at the end): 0 unless the
+    /// pull towards them failed somewhere.
+    std::size_t farFaceCentres = 0;
 };
 
 /// @brief Remeshes every patch to the target edge length, keeping every guarantee of the
@@ -95,13 +99,16 @@ struct RemeshStatistics
 ///    faces stay covered, and a new edge between two samples is their chordOwner()'s
 ///    (collapseMeetingAndShortEdges(): what step 4 left where a patch could not see the
 ///    others; a loop of three samples may become one triangle, in one of its patches).
+/// 12. The output is searched afresh for what would break its promises: pairs of triangles
+///    that meet (findMeetingPairs()) and voxel face centres farther than one voxel from their
+///    patch (findFarFaceCentres()); their counts go into @a statistics.
 /// The output has the samples first (shared), then the inner vertices patch by patch; the
 /// patches keep their order, label pairs and orientation (normals from a into b). Point keys
 /// are cleared (keyScale 0). The result is the same for any number of threads.
 /// @throw openvdb::ValueError if the edge length is not a finite number > 0
 /// @throw vdbi::TopologyError if the input is not a valid interface mesh
 /// @throw vdbi::Interrupted if the interrupter asks to stop
-/// @param statistics  if not null, receives the seconds per stage and the meeting pairs left
+/// @param statistics  if not null, receives the seconds per stage and step 12's counts
 InterfaceMesh remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
                             RemeshStatistics* statistics = nullptr);
 

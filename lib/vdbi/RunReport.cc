@@ -36,7 +36,8 @@ countsOf(const Statistics& st)
         {"patches", "patches", st.patches},
         {"triangles", "triangles", st.triangles},
         {"vertices", "vertices", st.vertices},
-        {"meeting pairs", "meeting_triangle_pairs", st.meetingPairs}};
+        {"meeting pairs", "meeting_triangle_pairs", st.meetingPairs},
+        {"far face centres", "far_voxel_face_centres", st.farFaceCentres}};
 }
 
 } // namespace
