@@ -169,6 +169,15 @@ RawPatchDistance::corners(const PointArray& points, const openvdb::Vec3I& t) con
 bool
 RawPatchDistance::isWithin(const Vec3d& q, const Corners& t, double limit)
 {
+    // Farther than the limit from the triangle's bounding box along an axis: farther from
+    // the triangle. Most points the guards ask about are (their boxes are axis-aligned, the
+    // surface is not), and this costs a fraction of the closest point.
+    for (int k = 0; k < 3; ++k) {
+        if (q[k] + limit < std::min({t.c[0][k], t.c[1][k], t.c[2][k]})
+            || q[k] - limit > std::max({t.c[0][k], t.c[1][k], t.c[2][k]})) {
+            return false;
+        }
+    }
     Vec3d bary;
     return (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).lengthSqr()
         <= limit * limit;
@@ -223,9 +232,11 @@ RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const V
                     const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]),
                                              scaled(mRaw.points[tri[1]]),
                                              scaled(mRaw.points[tri[2]])};
-                    const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
                     const Vec3d centroid = (corner[0] + corner[1] + corner[2]) / 3.0;
                     if (isInBox(centroid, low, high)) points.push_back(centroid);
+                    // The face centre is within centreReach of the centroid.
+                    if (!isInBox(centroid, cellLow, cellHigh)) continue;
+                    const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
                     if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre)) {
                         points.push_back(centre);
                     }
