@@ -10,13 +10,13 @@ namespace {
 
 /// Cosines of the turn between neighbouring triangles' normals beyond which an operation's
 /// result is tested for crossings (folds need one). A sharp turn, over 120 degrees, is
-/// enough for moves, for the first round's collapses of the staircase (which turns by right
-/// angles at every step) and for operations at the patch boundary. Elsewhere a collapse or
-/// flip at a right-angled crease can fold its fan through the faces beyond the crease with
-/// no turn over 120 degrees: creases are tested from 60 degrees on (menger at 4 voxels: 44
-/// pairs of its one patch crossing with 120, none with 60). At the boundary 60 refuses
-/// collapses that leave slivers along a curve for separation (frog at 4 voxels: 2 pairs of
-/// patches crossing there, none with 120).
+/// enough for moves, for the first round's collapses of the staircase towards halved targets
+/// (it turns by right angles at every step) and for operations at the patch boundary.
+/// Elsewhere a collapse or flip at a right-angled crease can fold its fan through the faces
+/// beyond the crease with no turn over 120 degrees: creases are tested from 60 degrees on
+/// (menger at 4 voxels: 44 pairs of its one patch crossing with 120, none with 60). At the
+/// boundary 60 refuses collapses that leave slivers along a curve for separation (frog at 4
+/// voxels: 2 pairs of patches crossing there, none with 120).
 const double SHARP_TURN_COS = std::cos(120.0 * M_PI / 180.0);
 const double CREASE_TURN_COS = std::cos(60.0 * M_PI / 180.0);
 

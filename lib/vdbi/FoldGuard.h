@@ -45,8 +45,9 @@ public:
     /// or the faces around more often than @a replaced did?
     /// @param near            the suspect new triangles are counted against the faces with a
     ///                        corner on or next to one of these (other than @a replaced) ...
-    /// @param neighboursOnly  ... or against the neighbours only (the first round's millions
-    ///                        of collapses, from the staircase)
+    /// @param neighboursOnly  ... or against the neighbours only (the millions of collapses
+    ///                        of the first round's passes towards halved targets, from
+    ///                        the staircase)
     /// @param centre          the vertex every new triangle has (-1: none)
     bool foldsMore(std::initializer_list<VertexHandle> near,
                    const std::vector<FaceHandle>& replaced, int centre, bool neighboursOnly);

@@ -34,7 +34,8 @@ public:
     /// Collapses edges shorter than 4/5 of @a target (not the target of the settings in the
     /// first round's coarsening passes).
     /// @param neighboursOnly  test the new fan for crossings with the faces across its edges
-    ///                        only (the first round, from the staircase, has millions)
+    ///                        only (the passes towards the halved targets, from the
+    ///                        staircase, have millions)
     void collapseShortEdges(double target, bool neighboursOnly);
     void equalizeValences();
     void removeCaps();
@@ -109,8 +110,8 @@ private:
     std::vector<FaceHandle> mUnchangedFaces;  ///< scratch: faces a collapse keeps
     std::vector<TrianglePoints> mUnchangedTriangles;   ///< scratch: their triangles
     FoldGuard mFolds;
-    /// The first round's collapses test for folds against the faces across the fan's edges
-    /// only (FoldGuard::foldsMore()).
+    /// The collapses towards the halved targets test for folds against the faces across the
+    /// fan's edges only (FoldGuard::foldsMore()).
     bool mNeighboursOnly = false;
 };
 
@@ -672,9 +673,12 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
         if (it == 0) {
             // From the staircase through halved targets: where the extraction refined the
             // voxels (to a fifth), collapsing straight to the target grows fans of a dozen
-            // triangles and more, and the fold guard's cost grows with a fan's square. Only
-            // the first pass has millions of collapses: the later ones test their fans
-            // against all faces around (fewer folds left for separation).
+            // triangles and more, and the fold guard's cost grows with a fan's square. The
+            // passes towards the halved targets test their fans against the faces across
+            // the fans' edges only; the last, at the target, and the later rounds against
+            // all faces around (fewer folds left for separation). Frog at 2 voxels, one
+            // thread, with the pass at 1 voxel tested so: remeshing 35.2 -> 33.6 s (medians
+            // of 3), the same quality and closeness, no crossing.
             std::vector<double> targets;
             for (double t = 0.5 * settings.target;
                  settings.finestCoarsening > 0.0 && t >= settings.finestCoarsening; t *= 0.5) {
@@ -682,7 +686,7 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
             }
             targets.push_back(settings.target);
             for (std::size_t k = 0; k < targets.size(); ++k) {
-                remesher.collapseShortEdges(targets[k], k == 0);
+                remesher.collapseShortEdges(targets[k], k + 1 < targets.size());
             }
         } else {
             remesher.collapseShortEdges(settings.target, false);
