@@ -36,6 +36,26 @@ addFace(double x, std::vector<Vec3d>& points, std::vector<Vec3I>& triangles)
                                        Vec3I(first, first + 2, first + 3)});
 }
 
+/// A seeded random staircase of unit voxel faces, @a side x @a side, each a step of -1, 0
+/// or 1 voxel up from the one before, appended as addFace() does.
+void
+addRandomStaircase(int side, std::mt19937& random, std::vector<Vec3d>& points,
+                   std::vector<Vec3I>& triangles)
+{
+    std::uniform_int_distribution<int> step(-1, 1);
+    int z = 0;
+    for (int x = 0; x < side; ++x) {
+        for (int y = 0; y < side; ++y) {
+            z += step(random);
+            const std::uint32_t first = std::uint32_t(points.size());
+            points.insert(points.end(), {Vec3d(x, y, z), Vec3d(x + 1, y, z),
+                                         Vec3d(x + 1, y + 1, z), Vec3d(x, y + 1, z)});
+            triangles.insert(triangles.end(), {Vec3I(first, first + 1, first + 2),
+                                               Vec3I(first, first + 2, first + 3)});
+        }
+    }
+}
+
 } // namespace
 
 // Raw patch (1, 2): the voxel faces at x in [0, 1] and [2, 3]; remeshed: the unit square
@@ -78,21 +98,10 @@ TEST_F(TestFaceCentreCoverage, testFindsTheFarCentreOnce)
 TEST_F(TestFaceCentreCoverage, testMatchesBruteForce)
 {
     std::mt19937 random(20261206);
-    std::uniform_int_distribution<int> step(-1, 1);
     std::uniform_real_distribution<double> jitter(-1.5, 1.5);
     std::vector<Vec3d> rawPoints;
     std::vector<Vec3I> rawFaces;
-    int z = 0;
-    for (int x = 0; x < 20; ++x) {
-        for (int y = 0; y < 20; ++y) {
-            z += step(random);
-            const std::uint32_t first = std::uint32_t(rawPoints.size());
-            rawPoints.insert(rawPoints.end(), {Vec3d(x, y, z), Vec3d(x + 1, y, z),
-                                               Vec3d(x + 1, y + 1, z), Vec3d(x, y + 1, z)});
-            rawFaces.insert(rawFaces.end(), {Vec3I(first, first + 1, first + 2),
-                                             Vec3I(first, first + 2, first + 3)});
-        }
-    }
+    addRandomStaircase(20, random, rawPoints, rawFaces);
     std::vector<Vec3d> points;
     std::vector<Vec3I> triangles;
     for (int k = 0; k < 300; ++k) {
@@ -135,22 +144,10 @@ TEST_F(TestFaceCentreCoverage, testMatchesBruteForce)
 TEST_F(TestFaceCentreCoverage, testLargePatchEqualsItsHalves)
 {
     std::mt19937 random(20261207);
-    std::uniform_int_distribution<int> step(-1, 1);
     std::uniform_real_distribution<double> jitter(-1.5, 1.5);
-    constexpr int SIDE = 150;   // 45,000 raw triangles
     std::vector<Vec3d> rawPoints;
     std::vector<Vec3I> rawFaces;
-    int z = 0;
-    for (int x = 0; x < SIDE; ++x) {
-        for (int y = 0; y < SIDE; ++y) {
-            z += step(random);
-            const std::uint32_t first = std::uint32_t(rawPoints.size());
-            rawPoints.insert(rawPoints.end(), {Vec3d(x, y, z), Vec3d(x + 1, y, z),
-                                               Vec3d(x + 1, y + 1, z), Vec3d(x, y + 1, z)});
-            rawFaces.insert(rawFaces.end(), {Vec3I(first, first + 1, first + 2),
-                                             Vec3I(first, first + 2, first + 3)});
-        }
-    }
+    addRandomStaircase(150, random, rawPoints, rawFaces);   // 45,000 raw triangles
     std::vector<Vec3d> points;
     std::vector<Vec3I> triangles;
     for (std::size_t face = 0; face < rawFaces.size() / 2; ++face) {
