@@ -101,18 +101,8 @@ findFarCentresIn(const InterfaceMesh& raw, const PatchCells& cells, std::size_t 
         if (group.cell != lowCell) {
             group.cell = lowCell;
             group.triangles.clear();
-            for (int x = 0; x < 2; ++x) {
-                for (int y = 0; y < 2; ++y) {
-                    for (int z = 0; z < 2; ++z) {
-                        const std::uint64_t key = cellKey(lowCell + openvdb::Vec3i(x, y, z));
-                        auto it = std::lower_bound(entries.begin(), entries.end(),
-                                                   std::make_pair(key, std::uint32_t(0)));
-                        for (; it != entries.end() && it->first == key; ++it) {
-                            group.triangles.push_back(it->second);
-                        }
-                    }
-                }
-            }
+            forEachEntryInCells(entries, lowCell, lowCell + openvdb::Vec3i(1),
+                                [&](std::uint32_t k) { group.triangles.push_back(k); });
         }
         const std::vector<std::uint32_t>& candidates = group.triangles;
         // The triangle that held the centre before mostly holds this one too.

@@ -65,35 +65,6 @@ isInBox(const Vec3d& q, const Vec3d& low, const Vec3d& high)
         && q[1] <= high[1] && q[2] <= high[2];
 }
 
-/// Calls @a body(triangle) for every entry of @a entries (sorted (cell key, triangle)) in
-/// the cells of one voxel from [@a low, @a high] (voxel units).
-/// @details z is the key's lowest part: a column of cells along z is one run of keys, found
-/// by one binary search (at 4 voxels a guard's box spans ~10 cells along each axis). A
-/// column whose z range wraps around the key's 21 bits is looked up cell by cell.
-template<typename Body>
-void
-forEachInCells(const std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries,
-               const Vec3d& low, const Vec3d& high, const Body& body)
-{
-    const int z0 = int(std::floor(low[2])), z1 = int(std::floor(high[2]));
-    for (int x = int(std::floor(low[0])); x <= int(std::floor(high[0])); ++x) {
-        for (int y = int(std::floor(low[1])); y <= int(std::floor(high[1])); ++y) {
-            auto scan = [&](int from, int to) {
-                const std::uint64_t first = cellKey(openvdb::Vec3i(x, y, from));
-                const std::uint64_t last = cellKey(openvdb::Vec3i(x, y, to));
-                auto it = std::lower_bound(entries.begin(), entries.end(),
-                                           std::make_pair(first, std::uint32_t(0)));
-                for (; it != entries.end() && it->first <= last; ++it) body(it->second);
-            };
-            if (cellKey(openvdb::Vec3i(x, y, z0)) <= cellKey(openvdb::Vec3i(x, y, z1))) {
-                scan(z0, z1);
-            } else {
-                for (int z = z0; z <= z1; ++z) scan(z, z);
-            }
-        }
-    }
-}
-
 } // namespace
 
 
@@ -159,7 +130,8 @@ RawPatchDistance::nearest(const Vec3d& p, std::uint32_t patch)
     const double margin = mRadius + cells.reach;
     double best2 = mRadius * mRadius;
     Vec3d best = q, bary;
-    forEachInCells(cells.entries, q - Vec3d(margin), q + Vec3d(margin), [&](std::uint32_t t) {
+    forEachEntryInCells(cells.entries, cellOf(q - Vec3d(margin), 1.0),
+                        cellOf(q + Vec3d(margin), 1.0), [&](std::uint32_t t) {
         const openvdb::Vec3I& tri = mRaw.triangles[t];
         const Vec3d nearest = closestPointOnTriangle(q, scaled(mRaw.points[tri[0]]),
                                                      scaled(mRaw.points[tri[1]]),
@@ -240,7 +212,8 @@ RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const V
     // within centreReach of it.
     const Vec3d cellLow = low - Vec3d(cells.centreReach),
                 cellHigh = high + Vec3d(cells.centreReach);
-    forEachInCells(cells.entries, cellLow, cellHigh, [&](std::uint32_t t) {
+    forEachEntryInCells(cells.entries, cellOf(cellLow, 1.0), cellOf(cellHigh, 1.0),
+                        [&](std::uint32_t t) {
         const openvdb::Vec3I& tri = mRaw.triangles[t];
         const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]), scaled(mRaw.points[tri[1]]),
                                  scaled(mRaw.points[tri[2]])};
