@@ -316,6 +316,86 @@ TEST_F(TestRemeshing, testClosestPointOnTriangle)
     }
 }
 
+namespace {
+
+/// A sphere of radius @a r: an octahedron whose faces are split into @a n x @a n triangles,
+/// projected onto the sphere.
+vdbi::ReferenceSurface
+sphereSurface(double r, int n)
+{
+    std::vector<Vec3d> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::map<std::tuple<long, long, long>, int> index;   // shared points along the edges
+    auto point = [&](const Vec3d& p) {
+        const auto key = std::make_tuple(std::lround(p[0] * 4096), std::lround(p[1] * 4096),
+                                         std::lround(p[2] * 4096));
+        const auto [it, added] = index.emplace(key, int(points.size()));
+        if (added) points.push_back(p * (r / p.length()));
+        return it->second;
+    };
+    for (int octant = 0; octant < 8; ++octant) {
+        const double sx = octant & 1 ? -1 : 1, sy = octant & 2 ? -1 : 1, sz = octant & 4 ? -1 : 1;
+        const Vec3d a(sx, 0, 0), b(0, sy, 0), c(0, 0, sz);
+        // Counter-clockwise seen from outside: (a, b, c) when the octant's sign product is 1.
+        const bool flip = sx * sy * sz < 0;
+        auto at = [&](int i, int j) { return point(a + (b - a) * (double(i) / n)
+                                                   + (c - a) * (double(j) / n)); };
+        auto add = [&](int p, int q, int w) {
+            triangles.emplace_back(p, flip ? w : q, flip ? q : w);
+        };
+        for (int i = 0; i < n; ++i) for (int j = 0; i + j < n; ++j) {
+            add(at(i, j), at(i + 1, j), at(i, j + 1));
+            if (i + j + 2 <= n) add(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+    return vdbi::ReferenceSurface(std::move(points), std::move(triangles));
+}
+
+} // namespace
+
+// The closest point by walking from a nearby triangle, by the KD-tree, and by testing every
+// triangle are the same point on the same triangle (the smaller index among equally close).
+TEST_F(TestRemeshing, testClosestPointNearWalksToTheClosestPoint)
+{
+    const vdbi::ReferenceSurface surface = sphereSurface(10.0, 24);
+    const auto& points = surface.points();
+    const auto& triangles = surface.triangles();
+    ASSERT_EQ(triangles.size(), 8u * 24u * 24u);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    std::uniform_real_distribution<double> radius(9.0, 11.0), jitter(-1.5, 1.5);
+    int walked = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        Vec3d q(normal(rng), normal(rng), normal(rng));
+        q *= radius(rng) / q.length();
+        std::uint32_t best = 0;
+        double bestDistance = 1e300;
+        for (std::uint32_t f = 0; f < triangles.size(); ++f) {
+            const openvdb::Vec3I& t = triangles[f];
+            Vec3d bary;
+            const double d = (vdbi::closestPointOnTriangle(q, points[t[0]], points[t[1]],
+                                                           points[t[2]], bary) - q).lengthSqr();
+            if (d < bestDistance) {
+                bestDistance = d;
+                best = f;
+            }
+        }
+        const auto fromTree = surface.closestPoint(q);
+        EXPECT_EQ(fromTree.triangle, best);
+        EXPECT_EQ((fromTree.point - q).lengthSqr(), bestDistance);
+        EXPECT_GT(fromTree.normal.dot(q), 0.99 * q.length());   // outwards
+        // Starts up to a few triangles away, as a point moved in a remeshing round.
+        const Vec3d nearby = q + Vec3d(jitter(rng), jitter(rng), jitter(rng));
+        const std::uint32_t start = surface.closestPoint(nearby).triangle;
+        walked += start != best;
+        const auto fromWalk = surface.closestPointNear(q, start);
+        EXPECT_EQ(fromWalk.triangle, best);
+        EXPECT_EQ((fromWalk.point - q).lengthSqr(), bestDistance);
+        EXPECT_EQ(fromWalk.normal, fromTree.normal);
+    }
+    EXPECT_GT(walked, 1000);   // most walks take steps
+}
+
 // Two touching boxes: the 1|2 patch is bounded by one closed curve where it meets the
 // background, so every junction has feature valence other than 2 or is a loop start;
 // resampling gives every curve at least one segment and closed curves at least three.

@@ -150,24 +150,38 @@ const std::vector<Vec3d>& ReferenceSurface::vertexNormals() const { return mImpl
 
 namespace {
 
-/// Closest point over the triangles around the given vertices; each triangle is tested once.
+/// True if triangle @a t has a corner among the @a count vertices at @a vertices.
+inline bool
+hasCornerAmong(const openvdb::Vec3I& t, const std::uint32_t* vertices, std::size_t count)
+{
+    for (std::size_t j = 0; j < count; ++j) {
+        if (std::uint32_t(t[0]) == vertices[j] || std::uint32_t(t[1]) == vertices[j]
+            || std::uint32_t(t[2]) == vertices[j]) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/// @brief Keeps in @a hit the closest of the triangles around the given vertices, the smaller
+/// index among equally close ones; a triangle at one of the @a searchedCount vertices
+/// @a searched was tested before and is skipped, as is one met around an earlier vertex.
 /// Flattened: closestPointOnTriangle() is computed in place, not called through the PLT.
 template<typename Impl>
 [[gnu::flatten]] bool
 searchAround(const Impl& m, const Vec3d& query, const std::uint32_t* vertices, std::size_t count,
+             const std::uint32_t* searched, std::size_t searchedCount,
              ReferenceSurface::Hit& hit, Vec3d& bary, double& best)
 {
-    constexpr std::size_t MAX_SEEN = 64;
-    std::uint32_t seen[MAX_SEEN];
-    std::size_t seenCount = 0;
     bool found = false;
     for (std::size_t k = 0; k < count; ++k) {
         const std::uint32_t v = vertices[k];
         for (std::uint32_t i = m.triangleStart[v]; i < m.triangleStart[v + 1]; ++i) {
             const std::uint32_t f = m.vertexTriangles[i];
-            if (std::find(seen, seen + seenCount, f) != seen + seenCount) continue;
-            if (seenCount < MAX_SEEN) seen[seenCount++] = f;
             const openvdb::Vec3I& t = m.triangles[f];
+            if (hasCornerAmong(t, vertices, k) || hasCornerAmong(t, searched, searchedCount)) {
+                continue;
+            }
             Vec3d b;
             const Vec3d c = closestPointOnTriangle(query, m.points[t[0]], m.points[t[1]],
                                                    m.points[t[2]], b);
@@ -272,7 +286,8 @@ ReferenceSurface::closestPoint(const Vec3d& query) const
     Hit hit;
     Vec3d bary(1, 0, 0);
     double best = std::numeric_limits<double>::infinity();
-    if (!searchAround(m, query, nearest, found, hit, bary, best)) {   // isolated vertices only
+    if (!searchAround(m, query, nearest, found, nullptr, 0, hit, bary, best)) {
+        // Isolated vertices only: no triangle around them.
         hit.point = found ? m.points[nearest[0]] : query;
         hit.normal = found ? m.normals[nearest[0]] : Vec3d(0, 0, 1);
         return hit;
@@ -290,16 +305,22 @@ ReferenceSurface::closestPointNear(const Vec3d& query, std::uint32_t start) cons
     Hit hit;
     hit.triangle = start;
     Vec3d bary(1, 0, 0);
+    double best = std::numeric_limits<double>::infinity();
+    // The best of a step is the closest of the triangles around its corners, so no triangle
+    // there beats it: the next step, from the best, skips them.
+    std::uint32_t searched[3];
+    std::size_t searchedCount = 0;
     for (int step = 0; step < 8; ++step) {
         const std::uint32_t current = hit.triangle;
         const openvdb::Vec3I& t = m.triangles[current];
         const std::uint32_t corners[3] = {t[0], t[1], t[2]};
-        double best = std::numeric_limits<double>::infinity();
-        searchAround(m, query, corners, 3, hit, bary, best);
+        searchAround(m, query, corners, 3, searched, searchedCount, hit, bary, best);
         if (hit.triangle == current) {
             finishHit(hit, bary);
             return hit;
         }
+        std::copy(corners, corners + 3, searched);
+        searchedCount = 3;
     }
     return closestPoint(query);
 }
