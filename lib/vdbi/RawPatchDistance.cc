@@ -184,14 +184,12 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
         return std::any_of(triangles.begin(), triangles.end(),
                            [&](const Corners& t) { return isWithin(q, t, limit); });
     };
-    // Only points within the limit of a changed triangle, before or now, can have lost it.
+    // Only points within the limit of a changed triangle as it was can have lost it.
     Vec3d low(std::numeric_limits<double>::max()), high(-low);
-    for (const std::vector<Corners>* triangles : {&before, &now}) {
-        for (const Corners& t : *triangles) {
-            for (const Vec3d& p : t.c) {
-                low = openvdb::math::minComponent(low, p);
-                high = openvdb::math::maxComponent(high, p);
-            }
+    for (const Corners& t : before) {
+        for (const Vec3d& p : t.c) {
+            low = openvdb::math::minComponent(low, p);
+            high = openvdb::math::maxComponent(high, p);
         }
     }
     mGuarded.clear();
