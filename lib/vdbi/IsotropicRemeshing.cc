@@ -9,6 +9,7 @@
 #include <vdbi/SharpFanSmoothing.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -663,13 +664,22 @@ IsotropicRemesher::projectToReference()
 
 bool
 remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
-                    InterruptFlag& interrupt)
+                    InterruptFlag& interrupt, RemeshStepSeconds* seconds)
 {
+    RemeshStepSeconds steps;
+    auto clock = std::chrono::steady_clock::now();
+    // Adds the seconds since the last call to @a step.
+    auto lap = [&clock](double& step) {
+        const auto now = std::chrono::steady_clock::now();
+        step += std::chrono::duration<double>(now - clock).count();
+        clock = now;
+    };
     IsotropicRemesher remesher(patch, settings);
     for (int it = 0; it < settings.iterations; ++it) {
         if (interrupt.poll()) return false;
         if (it == 0) remesher.moveOffChords();
         remesher.splitLongEdges();
+        lap(steps.split);
         if (it == 0) {
             // From the staircase through halved targets: where the extraction refined the
             // voxels (to a fifth), collapsing straight to the target grows fans of a dozen
@@ -691,16 +701,22 @@ remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
         } else {
             remesher.collapseShortEdges(settings.target, false);
         }
+        lap(steps.collapse);
         remesher.equalizeValences();
         remesher.removeCaps();
+        lap(steps.flip);
         remesher.tangentialRelaxation();
+        lap(steps.relax);
         remesher.projectToReference();
+        lap(steps.project);
     }
     if (settings.iterations > 0) {
         remesher.flipSharpTriangles();
         smoothSharpFans(patch, remesher.coverage(), settings);
         remesher.flipSharpTriangles();
+        lap(steps.sharpFans);
     }
+    if (seconds) *seconds += steps;
     return true;
 }
 

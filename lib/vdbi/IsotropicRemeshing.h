@@ -8,6 +8,7 @@
 
 #include <vdbi/Interruption.h>
 #include <vdbi/PatchBoundary.h>
+#include <vdbi/Remeshing.h>
 
 #include <cmath>
 
@@ -62,9 +63,10 @@ struct RemeshSettings
 /// to the mean of its neighbours (unfolding what attaching the samples folded). So the patch
 /// keeps its topology. Every loop runs in a fixed order (edge or vertex index): the result
 /// depends on the patch alone.
+/// @param seconds  if given, the steps' seconds are added to it
 /// @return false if the interrupter asked to stop (the patch is then unfinished)
 bool remeshIsotropically(RemeshingPatch& patch, const RemeshSettings& settings,
-                         InterruptFlag& interrupt);
+                         InterruptFlag& interrupt, RemeshStepSeconds* seconds = nullptr);
 
 } // namespace vdbi
 

@@ -368,6 +368,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     const std::size_t patchCount = raw.patches.size();
     std::vector<PatchResult> results(patchCount);
     std::vector<double> referenceTimes(patchCount, 0.0), remeshingTimes(patchCount, 0.0);
+    std::vector<RemeshStepSeconds> stepTimes(patchCount);
     InterruptFlag interrupt(options.interrupter);
     forEachPatch(raw, options.threaded, [&](std::size_t p) {
         if (interrupt.poll()) return;
@@ -378,7 +379,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         if (interrupt.poll()) return;
         RemeshingPatch patch(raw.patches[p], std::uint32_t(p), reference, curves);
         patch.attachCurveSamples();
-        if (!remeshIsotropically(patch, settings, interrupt)) return;
+        if (!remeshIsotropically(patch, settings, interrupt, &stepTimes[p])) return;
         if (patch.hasExpectedBoundary()) {
             results[p] = patch.exportMesh(true);
         } else {
@@ -400,6 +401,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         referenceSum + std::accumulate(remeshingTimes.begin(), remeshingTimes.end(), 0.0);
     stats.referenceSeconds = patchSum > 0.0 ? passSeconds * referenceSum / patchSum : 0.0;
     const double roundSeconds = passSeconds - stats.referenceSeconds;
+    for (const RemeshStepSeconds& steps : stepTimes) stats.roundSteps += steps;
 
     InterfaceMesh out;
     const std::uint32_t sampleCount = std::uint32_t(curves.samplePoints.size());
@@ -445,6 +447,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
         if (curves.sampleCurves[i] != FeatureCurves::NO_CURVE) innerSamples.push_back(i);
     }
     const std::size_t remeshedCount = out.points.size();
+    auto separationClock = clock;   // the parts of separation, lap by lap
     PointArray start = out.points;
     TrianglePairs left;
     RawPatchDistance rawDistance(raw, voxel, RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT,
@@ -477,14 +480,18 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
             left.swap(leftAgain);
         }
     }
+    stats.separationCycleSeconds = secondsSince(separationClock);
     // Those and the midpoints that separation's splits made.
     std::vector<std::uint32_t> far = offReference;
     for (std::size_t v = remeshedCount; v < out.points.size(); ++v) {
         far.push_back(std::uint32_t(v));
     }
     pullFarPoints(out, inner, far, rawDistance, options, voxel);
+    stats.pullSeconds = secondsSince(separationClock);
     shapeFansAcrossPatches(out, inner, left, rawDistance, options, smallestVoxel);
+    stats.fanShapingSeconds = secondsSince(separationClock);
     pullToFarFaceCentres(out, inner, raw, rawDistance, options, voxel);
+    stats.pullSeconds += secondsSince(separationClock);
     // Knots that no move or flip frees: collapse free corners; then short edges, every patch
     // in sight (last: it renumbers points).
     ShortEdgeCollapseSettings shortEdges;
@@ -498,12 +505,14 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     shortEdges.source = &rawDistance;
     shortEdges.sourceLimit = CLOSENESS_LIMIT;
     collapseMeetingAndShortEdges(out, inner, shortEdges, left);
+    stats.finalCollapseSeconds = secondsSince(separationClock);
     // Searched afresh rather than carried through the steps above: the counts tell the
     // user whether the output keeps its promises, so they must not rest on those steps' own.
     stats.meetingPairs =
         findMeetingPairs(out, options.edgeLength, options.threaded).size();
     stats.farFaceCentres =
         findFarFaceCentres(raw, out, voxel, PROMISED_CLOSENESS, options.threaded).size();
+    stats.checkSeconds = secondsSince(separationClock);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
     return out;

@@ -33,6 +33,29 @@ struct RemeshOptions
     openvdb::util::NullInterrupter* interrupter = nullptr;
 };
 
+/// @brief Seconds of the steps of the rounds of one or more patches (remeshIsotropically()),
+/// for benchmarks: where the time of a patch goes.
+struct RemeshStepSeconds
+{
+    double split = 0.0;       ///< moving off the chords (first round), splits
+    double collapse = 0.0;    ///< collapses (the first round's from the staircase included)
+    double flip = 0.0;        ///< flips towards valence 6, and of caps
+    double relax = 0.0;       ///< tangential relaxation
+    double project = 0.0;     ///< projection onto the reference, with its step-backs
+    double sharpFans = 0.0;   ///< after the last round: sharp triangles flipped, fans smoothed
+
+    RemeshStepSeconds& operator+=(const RemeshStepSeconds& other)
+    {
+        split += other.split;
+        collapse += other.collapse;
+        flip += other.flip;
+        relax += other.relax;
+        project += other.project;
+        sharpFans += other.sharpFans;
+        return *this;
+    }
+};
+
 /// @brief Wall seconds of the stages of one remeshPatches() run.
 /// @details A patch is remeshed right after its reference surface is built, in one parallel
 /// pass over the patches: that pass's wall time is shared between referenceSeconds and
@@ -43,6 +66,14 @@ struct RemeshStatistics
     double referenceSeconds = 0.0;   ///< the reference surfaces of all patches
     double remeshingSeconds = 0.0;   ///< boundaries attached, rounds, output assembled
     double separationSeconds = 0.0;  ///< separation: moves, splits, flips and collapses
+    /// The rounds' steps of all patches: CPU seconds, summed over the patches (several
+    /// threads make them add up to more than remeshingSeconds).
+    RemeshStepSeconds roundSteps;
+    /// The parts of separationSeconds (wall): the cycles of separation, splits and flips;
+    /// the pulls towards the voxel faces and their centres; the shaping of sharp fans across
+    /// patches; the collapses of meeting and short edges; the final counts below.
+    double separationCycleSeconds = 0.0, pullSeconds = 0.0, fanShapingSeconds = 0.0,
+           finalCollapseSeconds = 0.0, checkSeconds = 0.0;
     /// Pairs of output triangles that meet other than in shared corners and edges
     /// (findMeetingPairs(), searched afresh at the end): 0 unless separation failed somewhere.
     std::size_t meetingPairs = 0;

@@ -3,7 +3,8 @@
 /// @brief Remeshing of the frog (or another sample volume) at edge lengths of 1, 2 and 4
 /// voxels: wall seconds per stage (extraction, feature curves, reference surfaces,
 /// remeshing, separation of crossing patches), CPU seconds of extraction + remeshing,
-/// triangles and the quality figures.
+/// triangles and the quality figures; then where the time of remeshing and separation goes:
+/// the steps of the rounds (CPU seconds summed over the patches) and the parts of separation.
 /// @details Every figure is the median of --reps runs (default 3), all lengths interleaved
 /// round by round so that a change of load on a shared machine hits them alike. With --check
 /// the remeshed meshes also go through the independent checks of the tests (MeshChecker,
@@ -32,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +50,8 @@ struct Runs
 {
     double voxels = 1.0;
     std::vector<double> extraction, curves, reference, remeshing, separation, total, cpu;
+    /// Per run: the rounds' steps, then the parts of separation (RemeshStatistics).
+    std::vector<std::vector<double>> steps;
     vdbi::InterfaceMesh raw, remeshed;
 };
 
@@ -117,6 +121,11 @@ main(int argc, char** argv)
             r.reference.push_back(stats.referenceSeconds);
             r.remeshing.push_back(stats.remeshingSeconds);
             r.separation.push_back(stats.separationSeconds);
+            const vdbi::RemeshStepSeconds& round = stats.roundSteps;
+            r.steps.push_back({round.split, round.collapse, round.flip, round.relax,
+                round.project, round.sharpFans, stats.separationCycleSeconds,
+                stats.pullSeconds, stats.fanShapingSeconds, stats.finalCollapseSeconds,
+                stats.checkSeconds});
             r.total.push_back(seconds(t0, t2));
             r.raw = std::move(raw);
             r.remeshed = std::move(out);
@@ -129,6 +138,21 @@ main(int argc, char** argv)
         std::printf("%-8g %10.2f %8.2f %10.2f %10.2f %10.2f %10.2f %10.2f\n", r.voxels,
                     median(r.extraction), median(r.curves), median(r.reference),
                     median(r.remeshing), median(r.separation), median(r.total), median(r.cpu));
+    }
+    std::printf("\nrounds' steps, CPU seconds summed over the patches | parts of separation, "
+                "wall seconds\n%-8s", "length");
+    const char* stepNames[] = {"split", "collapse", "flip", "relax", "project", "sharp fans",
+                               "| cycles", "pulls", "fan shape", "collapses", "checks"};
+    for (const char* name : stepNames) std::printf(" %10s", name);
+    std::printf("\n");
+    for (const Runs& r : runs) {
+        std::printf("%-8g", r.voxels);
+        for (std::size_t k = 0; k < std::size(stepNames); ++k) {
+            std::vector<double> values;
+            for (const std::vector<double>& run : r.steps) values.push_back(run[k]);
+            std::printf(" %*s%.2f", k == 6 ? 4 : 6, k == 6 ? "| " : "", median(values));
+        }
+        std::printf("\n");
     }
     std::printf("\n");
     for (const Runs& r : runs) {
