@@ -31,17 +31,16 @@ openvdb::Vec3i cellOf(const openvdb::Vec3d& p, double inverse);
 /// more candidates to test.
 std::uint64_t cellKey(const openvdb::Vec3i& c);
 
-/// @brief Calls @a body(e) for every entry e (its position in @a entries, sorted pairs of
-/// cellKey() and an index) in the cells [@a low, @a high].
+/// @brief Calls @a body(index) for every entry of @a entries (sorted pairs of cellKey() and
+/// an index) in the cells [@a low, @a high].
 /// @details z is the key's lowest part: a column of cells along z is one run of keys, found
 /// by one binary search (at 4 voxels a guard's box spans ~10 cells along each axis). A
 /// column whose z range wraps around the key's 21 bits is looked up cell by cell. Entries
 /// come by x, then y, then z, in their order.
 template<typename Body>
 void
-forEachEntryIndexInCells(const std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries,
-                         const openvdb::Vec3i& low, const openvdb::Vec3i& high,
-                         const Body& body)
+forEachEntryInCells(const std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries,
+                    const openvdb::Vec3i& low, const openvdb::Vec3i& high, const Body& body)
 {
     for (int x = low[0]; x <= high[0]; ++x) {
         for (int y = low[1]; y <= high[1]; ++y) {
@@ -50,9 +49,7 @@ forEachEntryIndexInCells(const std::vector<std::pair<std::uint64_t, std::uint32_
                 const std::uint64_t last = cellKey(openvdb::Vec3i(x, y, to));
                 auto it = std::lower_bound(entries.begin(), entries.end(),
                                            std::make_pair(first, std::uint32_t(0)));
-                for (; it != entries.end() && it->first <= last; ++it) {
-                    body(std::size_t(it - entries.begin()));
-                }
+                for (; it != entries.end() && it->first <= last; ++it) body(it->second);
             };
             if (cellKey(openvdb::Vec3i(x, y, low[2])) <= cellKey(openvdb::Vec3i(x, y, high[2]))) {
                 scan(low[2], high[2]);
@@ -61,16 +58,6 @@ forEachEntryIndexInCells(const std::vector<std::pair<std::uint64_t, std::uint32_
             }
         }
     }
-}
-
-/// forEachEntryIndexInCells() calling @a body(index) with the index (second) of every entry.
-template<typename Body>
-void
-forEachEntryInCells(const std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries,
-                    const openvdb::Vec3i& low, const openvdb::Vec3i& high, const Body& body)
-{
-    forEachEntryIndexInCells(entries, low, high,
-                             [&](std::size_t e) { body(entries[e].second); });
 }
 
 /// The cells [@a low, @a high] (of cubes 1 / @a inverse wide) that the bounding box of

@@ -121,28 +121,6 @@ RawPatchDistance::cellsOf(std::uint32_t patch)
 }
 
 
-const RawPatchDistance::Cells&
-RawPatchDistance::guardedCellsOf(std::uint32_t patch)
-{
-    cellsOf(patch);
-    Cells& cells = mCells[patch];
-    if (!cells.centroids.empty() || cells.entries.empty()) return cells;
-    const std::size_t count = cells.entries.size();
-    cells.centroids.resize(count);
-    cells.centres.resize(count);
-    for (std::size_t e = 0; e < count; ++e) {
-        const openvdb::Vec3I& tri = mRaw.triangles[cells.entries[e].second];
-        const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]), scaled(mRaw.points[tri[1]]),
-                                 scaled(mRaw.points[tri[2]])};
-        cells.centroids[e] = (corner[0] + corner[1] + corner[2]) / 3.0;
-        const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
-        cells.centres[e] = ownsFaceCentre(corner, centre)
-            ? centre : Vec3d(std::numeric_limits<double>::quiet_NaN());
-    }
-    return cells;
-}
-
-
 RawPatchDistance::Hit
 RawPatchDistance::nearest(const Vec3d& p, std::uint32_t patch)
 {
@@ -227,20 +205,24 @@ void
 RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const Vec3d& high,
                                   std::vector<Vec3d>& points)
 {
-    const Cells& cells = guardedCellsOf(patch);
+    const Cells& cells = cellsOf(patch);
     // Cells hold triangles by centroid: a face centre in the box has its triangle's centroid
     // within centreReach of it.
     const Vec3d cellLow = low - Vec3d(cells.centreReach),
                 cellHigh = high + Vec3d(cells.centreReach);
-    forEachEntryIndexInCells(cells.entries, cellOf(cellLow, 1.0), cellOf(cellHigh, 1.0),
-                             [&](std::size_t e) {
-        const Vec3d& centroid = cells.centroids[e];
+    forEachEntryInCells(cells.entries, cellOf(cellLow, 1.0), cellOf(cellHigh, 1.0),
+                        [&](std::uint32_t t) {
+        const openvdb::Vec3I& tri = mRaw.triangles[t];
+        const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]), scaled(mRaw.points[tri[1]]),
+                                 scaled(mRaw.points[tri[2]])};
+        const Vec3d centroid = (corner[0] + corner[1] + corner[2]) / 3.0;
         if (isInBox(centroid, low, high)) points.push_back(centroid);
         // The face centre is within centreReach of the centroid.
         if (!isInBox(centroid, cellLow, cellHigh)) return;
-        // A centre the triangle does not report is NaN: in no box.
-        const Vec3d& centre = cells.centres[e];
-        if (isInBox(centre, low, high)) points.push_back(centre);
+        const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
+        if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre)) {
+            points.push_back(centre);
+        }
     });
 }
 

@@ -99,16 +99,9 @@ private:
         std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
         double reach = 0.0;   ///< farthest corner from its triangle's centroid, in voxels
         double centreReach = 0.0;   ///< the same for voxelFaceCentre()
-        /// Per entry, made when guarded points are first asked for: the centroid of its
-        /// triangle and the voxel face centre it reports (NaN if none), in voxel units. The
-        /// guards of the moves after remeshing gather tens of millions of them (frog at 4
-        /// voxels: 160 M), each otherwise made again from the triangle's corners.
-        std::vector<openvdb::Vec3d> centroids, centres;
     };
 
     const Cells& cellsOf(std::uint32_t patch);
-    /// cellsOf() with the centroids and centres made.
-    const Cells& guardedCellsOf(std::uint32_t patch);
     /// Appends the centroids of patch @a patch's triangles in the box [@a low, @a high], and
     /// their voxel face centres there (a face's once for its two halves).
     void guardedPointsIn(std::uint32_t patch, const openvdb::Vec3d& low,
