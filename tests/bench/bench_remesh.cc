@@ -150,7 +150,7 @@ main(int argc, char** argv)
         for (std::size_t k = 0; k < std::size(stepNames); ++k) {
             std::vector<double> values;
             for (const std::vector<double>& run : r.steps) values.push_back(run[k]);
-            std::printf(" %*s%.2f", k == 6 ? 4 : 6, k == 6 ? "| " : "", median(values));
+            std::printf(" %10.2f", median(values));
         }
         std::printf("\n");
     }
