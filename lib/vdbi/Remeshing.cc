@@ -121,9 +121,12 @@ struct SeparationCycle
 /// sides smoothed at 4 voxels cross over a width the third cannot open (frog at 4 voxels with
 /// the untouched voxels of the repair kept whole: 7 pairs left after three cycles, 4 after
 /// the collapses; none after the fourth). It leaves today's output as it was on the frog at 2
-/// and 4 voxels, monu16 at 4 and monu1 at 1, 2 and 4 (the third leaves no pair there).
+/// and 4 voxels, monu16 at 4 and monu1 at 1, 2 and 4 (the third leaves no pair there). The
+/// fifth lets points go up to a whole voxel (closeness is the separation's own guard, not
+/// this bound): it frees the random smooth field 26 at 2 voxels (3 pairs after the fourth).
+/// Where the fourth leaves none it does not run: the frog's output is as it was.
 constexpr SeparationCycle SEPARATION_CYCLES[] = {
-    {0.4, false}, {0.5, false}, {0.5, true}, {0.75, true}};
+    {0.4, false}, {0.5, false}, {0.5, true}, {0.75, true}, {1.0, true}};
 
 /// World size of one voxel per axis from the point keys: the smallest ratio of world to key
 /// distance along triangle edges parallel to that axis of the key grid; zeros without keys.
