@@ -10,8 +10,8 @@
 /// the remeshed meshes also go through the independent checks of the tests (MeshChecker,
 /// closeness to the raw patches, triangle intersections) and the results are printed.
 ///
-/// Usage: bench_remesh [--reps N] [--threads T] [--check] [--volume FILE] [LENGTH...]
-///        (lengths in voxels, default 1 2 4)
+/// Usage: bench_remesh [--reps N] [--threads T] [--iterations I] [--check] [--volume FILE]
+///        [LENGTH...]  (lengths in voxels, default 1 2 4; iterations default: the library's)
 
 #include "BenchSupport.h"
 #include "support/MeshChecker.h"
@@ -62,20 +62,23 @@ int
 main(int argc, char** argv)
 {
     vdbi::restartWithHugePages(argv); // as the CLI does: see HugePages.h
-    int reps = 3, threads = 0;
+    int reps = 3, threads = 0, iterations = vdbi::RemeshOptions().iterations;
     bool check = false;
     std::string volume = vdbi_test::dataPath("frogtissue.mhd");
     std::vector<double> lengths;
     auto usage = [&] {
-        std::fprintf(stderr, "usage: %s [--reps N] [--threads T] [--check] [--volume FILE] "
-                     "[LENGTH...]  (lengths in voxels, > 0; default 1 2 4)\n", argv[0]);
+        std::fprintf(stderr, "usage: %s [--reps N] [--threads T] [--iterations I] [--check] "
+                     "[--volume FILE] [LENGTH...]  (lengths in voxels, > 0; default 1 2 4)\n",
+                     argv[0]);
         return 2;
     };
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) return usage(), 0;
         if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--check")) check = true;
+        else if (!std::strcmp(argv[i], "--iterations") && i + 1 < argc) {
+            iterations = std::atoi(argv[++i]);
+        } else if (!std::strcmp(argv[i], "--check")) check = true;
         else if (!std::strcmp(argv[i], "--volume") && i + 1 < argc) volume = argv[++i];
         else {
             char* end = nullptr;
@@ -84,7 +87,7 @@ main(int argc, char** argv)
             lengths.push_back(length);
         }
     }
-    if (reps < 1) return usage();
+    if (reps < 1 || iterations < 0) return usage();
     if (lengths.empty()) lengths = {1.0, 2.0, 4.0};
     std::unique_ptr<tbb::global_control> limit;
     if (threads > 0) {
@@ -96,8 +99,9 @@ main(int argc, char** argv)
     const openvdb::Int32Grid::Ptr grid = vdbi::readLabelVolume(volume);
     const openvdb::Vec3d voxel = grid->voxelSize();
     std::printf("heap: %s\n", vdbi_bench::heapPages().c_str());
-    std::printf("%s: voxel %g x %g x %g, %d runs per length%s\n", volume.c_str(), voxel[0],
-                voxel[1], voxel[2], reps, threads > 0 ? "" : ", all threads");
+    std::printf("%s: voxel %g x %g x %g, %d iterations, %d runs per length%s\n",
+                volume.c_str(), voxel[0], voxel[1], voxel[2], iterations, reps,
+                threads > 0 ? "" : ", all threads");
 
     std::vector<Runs> runs(lengths.size());
     for (std::size_t l = 0; l < lengths.size(); ++l) runs[l].voxels = lengths[l];
@@ -112,6 +116,7 @@ main(int argc, char** argv)
             vdbi::RemeshOptions options;
             options.edgeLength = r.voxels * voxel[0];
             options.voxelSize = voxel;
+            options.iterations = iterations;
             vdbi::RemeshStatistics stats;
             vdbi::InterfaceMesh out = vdbi::remeshPatches(raw, options, &stats);
             const Clock::time_point t2 = Clock::now();
