@@ -423,9 +423,31 @@ looksUnfolded(const std::vector<CornerTriangle>& fan, const std::vector<CornerTr
 }
 
 
+namespace {
+
+/// Are the bounding boxes of triangles @a s and @a t apart? Then trianglesTouch() answers no
+/// as well; most pairs of a cell of the candidate grid are answered so, without building the
+/// two triangles (their normals, boxes and the corner order) first.
+bool
+boxesApart(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t)
+{
+    for (int k = 0; k < 3; ++k) {
+        const double sLow = std::min({points[s[0]][k], points[s[1]][k], points[s[2]][k]});
+        const double tHigh = std::max({points[t[0]][k], points[t[1]][k], points[t[2]][k]});
+        if (tHigh < sLow) return true;
+        const double sHigh = std::max({points[s[0]][k], points[s[1]][k], points[s[2]][k]});
+        const double tLow = std::min({points[t[0]][k], points[t[1]][k], points[t[2]][k]});
+        if (sHigh < tLow) return true;
+    }
+    return false;
+}
+
+} // namespace
+
 bool
 trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::Vec3I& t)
 {
+    if (boxesApart(points, s, t)) return false;
     // The tests take the first triangle's plane: in one order, whichever comes first, so
     // that a pair meets or not the same way for every caller (nearly coplanar pairs differed).
     if (std::lexicographical_compare(t.asPointer(), t.asPointer() + 3, s.asPointer(),
