@@ -450,12 +450,11 @@ trianglesMeet(const PointArray& points, const openvdb::Vec3I& s, const openvdb::
     if (boxesApart(points, s, t)) return false;
     // The tests take the first triangle's plane: in one order, whichever comes first, so
     // that a pair meets or not the same way for every caller (nearly coplanar pairs differed).
-    if (std::lexicographical_compare(t.asPointer(), t.asPointer() + 3, s.asPointer(),
-                                     s.asPointer() + 3)) {
-        return trianglesMeet(points, t, s);
-    }
-    CornerTriangle first = cornerTriangle(points, s, false);
-    CornerTriangle second = cornerTriangle(points, t, runsAlongSameWay(s, t));
+    const bool tFirst = std::lexicographical_compare(t.asPointer(), t.asPointer() + 3,
+                                                     s.asPointer(), s.asPointer() + 3);
+    const openvdb::Vec3I &u = tFirst ? t : s, &w = tFirst ? s : t;
+    CornerTriangle first = cornerTriangle(points, u, false);
+    CornerTriangle second = cornerTriangle(points, w, runsAlongSameWay(u, w));
     if (first.normal.sqrnorm() == 0.0) std::swap(first, second);
     return trianglesTouch(first, second);
 }
