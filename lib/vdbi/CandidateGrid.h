@@ -42,14 +42,34 @@ void
 forEachEntryInCells(const std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries,
                     const openvdb::Vec3i& low, const openvdb::Vec3i& high, const Body& body)
 {
+    using Iterator = std::vector<std::pair<std::uint64_t, std::uint32_t>>::const_iterator;
+    // Columns come in ascending keys but where a key wraps: the search for the next starts
+    // where the last ended, with steps that double (a few entries away, not log n).
+    Iterator hint = entries.begin();
     for (int x = low[0]; x <= high[0]; ++x) {
         for (int y = low[1]; y <= high[1]; ++y) {
             auto scan = [&](int from, int to) {
                 const std::uint64_t first = cellKey(openvdb::Vec3i(x, y, from));
                 const std::uint64_t last = cellKey(openvdb::Vec3i(x, y, to));
-                auto it = std::lower_bound(entries.begin(), entries.end(),
-                                           std::make_pair(first, std::uint32_t(0)));
+                const auto key = std::make_pair(first, std::uint32_t(0));
+                Iterator begin = entries.begin(), end = entries.end();
+                if (hint != end && *hint < key) {
+                    begin = hint + 1;
+                    for (std::ptrdiff_t step = 1; end - begin > step; step *= 2) {
+                        if (!(begin[step] < key)) {
+                            end = begin + step;
+                            break;
+                        }
+                        begin += step + 1;
+                    }
+                } else if (hint != entries.begin() && !(hint[-1] < key)) {
+                    end = hint;
+                } else {
+                    begin = end = hint;
+                }
+                Iterator it = begin == end ? begin : std::lower_bound(begin, end, key);
                 for (; it != entries.end() && it->first <= last; ++it) body(it->second);
+                hint = it;
             };
             if (cellKey(openvdb::Vec3i(x, y, low[2])) <= cellKey(openvdb::Vec3i(x, y, high[2]))) {
                 scan(low[2], high[2]);

@@ -175,35 +175,87 @@ RawPatchDistance::isWithin(const Vec3d& q, const Corners& t, double limit)
 }
 
 
+namespace {
+
+/// @brief A triangle (voxel units) of RawPatchDistance::keepsCovered(), with what rejects
+/// most points without a closest point: its box and, if it has area, the slab of points
+/// within the limit of its plane.
+struct GuardTriangle
+{
+    explicit GuardTriangle(const RawPatchDistance::Corners& corners) : t(corners)
+    {
+        for (int k = 0; k < 3; ++k) {
+            low[k] = std::min({t.c[0][k], t.c[1][k], t.c[2][k]});
+            high[k] = std::max({t.c[0][k], t.c[1][k], t.c[2][k]});
+        }
+        const Vec3d u = t.c[1] - t.c[0], v = t.c[2] - t.c[0], n = u.cross(v);
+        // A plane known to 1e-12 radians: the slab test stays on the safe side of rounding.
+        hasPlane = n.lengthSqr() > 1e-8 * u.lengthSqr() * v.lengthSqr();
+        normal = hasPlane ? n / n.length() : Vec3d(0.0);
+    }
+
+    /// RawPatchDistance::isWithin(), the same answer to every point.
+    bool isWithin(const Vec3d& q, double limit) const
+    {
+        if (!isNear(q, limit)) return false;
+        Vec3d bary;
+        return (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).lengthSqr()
+            <= limit * limit;
+    }
+
+    /// False only if @a q is farther than @a limit from the triangle.
+    bool isNear(const Vec3d& q, double limit) const
+    {
+        for (int k = 0; k < 3; ++k) {
+            if (q[k] + limit < low[k] || q[k] - limit > high[k]) return false;
+        }
+        // Off the slab by more than rounding can explain: off the triangle by more too.
+        return !hasPlane || std::abs(normal.dot(q - t.c[0])) <= limit + 1e-7;
+    }
+
+    RawPatchDistance::Corners t;
+    Vec3d low, high, normal;
+    bool hasPlane;
+};
+
+} // namespace
+
+
 bool
 RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& before,
                                const std::vector<Corners>& now, double limit,
                                const std::function<bool(const Vec3d&)>& coveredElsewhere)
 {
-    auto within = [limit](const Vec3d& q, const std::vector<Corners>& triangles) {
-        return std::any_of(triangles.begin(), triangles.end(),
-                           [&](const Corners& t) { return isWithin(q, t, limit); });
-    };
-    // Only points within the limit of a changed triangle as it was can have lost it.
+    const std::vector<GuardTriangle> then(before.begin(), before.end()),
+        after(now.begin(), now.end());
+    // Only points within the limit of a changed triangle as it was can have lost it; the
+    // box of those holds them all, and most of its points are not near any.
     Vec3d low(std::numeric_limits<double>::max()), high(-low);
-    for (const Corners& t : before) {
-        for (const Vec3d& p : t.c) {
-            low = openvdb::math::minComponent(low, p);
-            high = openvdb::math::maxComponent(high, p);
-        }
+    for (const GuardTriangle& t : then) {
+        low = openvdb::math::minComponent(low, t.low);
+        high = openvdb::math::maxComponent(high, t.high);
     }
+    auto nearBefore = [&](const Vec3d& q) {
+        return std::any_of(then.begin(), then.end(),
+                           [&](const GuardTriangle& t) { return t.isNear(q, limit); });
+    };
     mGuarded.clear();
-    guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), mGuarded);
+    guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), nearBefore, mGuarded);
+    auto within = [&](const Vec3d& q, const std::vector<GuardTriangle>& triangles) {
+        return std::any_of(triangles.begin(), triangles.end(),
+                           [&](const GuardTriangle& t) { return t.isWithin(q, limit); });
+    };
     for (const Vec3d& q : mGuarded) {
-        if (!within(q, now) && within(q, before) && !coveredElsewhere(q)) return false;
+        if (!within(q, after) && within(q, then) && !coveredElsewhere(q)) return false;
     }
     return true;
 }
 
 
+template<typename Keep>
 void
 RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const Vec3d& high,
-                                  std::vector<Vec3d>& points)
+                                  const Keep& keep, std::vector<Vec3d>& points)
 {
     const Cells& cells = cellsOf(patch);
     // Cells hold triangles by centroid: a face centre in the box has its triangle's centroid
@@ -216,11 +268,11 @@ RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const V
         const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]), scaled(mRaw.points[tri[1]]),
                                  scaled(mRaw.points[tri[2]])};
         const Vec3d centroid = (corner[0] + corner[1] + corner[2]) / 3.0;
-        if (isInBox(centroid, low, high)) points.push_back(centroid);
+        if (isInBox(centroid, low, high) && keep(centroid)) points.push_back(centroid);
         // The face centre is within centreReach of the centroid.
         if (!isInBox(centroid, cellLow, cellHigh)) return;
         const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
-        if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre)) {
+        if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre) && keep(centre)) {
             points.push_back(centre);
         }
     });

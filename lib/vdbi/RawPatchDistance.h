@@ -103,9 +103,12 @@ private:
 
     const Cells& cellsOf(std::uint32_t patch);
     /// Appends the centroids of patch @a patch's triangles in the box [@a low, @a high], and
-    /// their voxel face centres there (a face's once for its two halves).
+    /// their voxel face centres there (a face's once for its two halves), those of them
+    /// that @a keep(point) is true for.
+    template<typename Keep>
     void guardedPointsIn(std::uint32_t patch, const openvdb::Vec3d& low,
-                         const openvdb::Vec3d& high, std::vector<openvdb::Vec3d>& points);
+                         const openvdb::Vec3d& high, const Keep& keep,
+                         std::vector<openvdb::Vec3d>& points);
 
     const InterfaceMesh& mRaw;
     const openvdb::Vec3d mVoxel, mInverse;
