@@ -7,6 +7,7 @@
 #include "support/MeshIntersections.h"
 
 #include <vdbi/FaceCentreCoverage.h>
+#include <vdbi/GuardedMoves.h>
 #include <vdbi/PatchSeparation.h>
 #include <vdbi/RawPatchDistance.h>
 
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <set>
 #include <utility>
 #include <vector>
@@ -665,4 +667,150 @@ TEST_F(TestPatchSeparation, testPullToFaceCentreAddsNoMeetingPair)
     EXPECT_EQ(vdbi::pullTowardsFaceCentres(mesh, movable, settings, far), 1u);
     EXPECT_TRUE(std::equal(points.begin(), points.end(), mesh.points.begin()));
     EXPECT_TRUE(intersectingPairs(mesh).empty());
+}
+
+
+namespace {
+
+/// A jittered plane of n x n points, spacing 1, its border fixed: every inner point's fan
+/// has sharp triangles somewhere.
+vdbi::InterfaceMesh
+jitteredPlane(int n, std::vector<std::uint8_t>& movable)
+{
+    std::vector<Vec3d> points;
+    movable.clear();
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            const bool border = x == 0 || y == 0 || x == n - 1 || y == n - 1;
+            // A fixed pattern, not random: the same mesh on every machine.
+            const double dx = border ? 0.0 : 0.35 * std::sin(1.7 * x + 2.3 * y);
+            const double dy = border ? 0.0 : 0.35 * std::cos(2.9 * x - 1.1 * y);
+            points.emplace_back(x + dx, y + dy, 0.05 * std::sin(0.5 * x));
+            movable.push_back(border ? 0 : 1);
+        }
+    }
+    std::vector<Vec3I> triangles;
+    for (int y = 0; y + 1 < n; ++y) {
+        for (int x = 0; x + 1 < n; ++x) {
+            const unsigned a = y * n + x, b = a + 1, c = a + n, d = c + 1;
+            triangles.emplace_back(a, b, d);
+            triangles.emplace_back(a, d, c);
+        }
+    }
+    return makeMesh(points, {{0, 1, triangles}});
+}
+
+/// GuardedMoves with the grid cells of a point's fan in sight.
+class BlockProbe : public vdbi::GuardedMoves
+{
+public:
+    using GuardedMoves::GuardedMoves;
+
+    void fanCells(std::uint32_t v, openvdb::Vec3i& low, openvdb::Vec3i& high) const
+    {
+        low = openvdb::Vec3i(std::numeric_limits<int>::max());
+        high = openvdb::Vec3i(std::numeric_limits<int>::min());
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            openvdb::Vec3i lo, hi;
+            mGrid.cellRange(mAround[i], lo, hi);
+            low = openvdb::math::minComponent(low, lo);
+            high = openvdb::math::maxComponent(high, hi);
+        }
+    }
+};
+
+/// The pairs of points in different blocks of one colour whose fans' cells, one of them
+/// widened by a cell (what the guards look at without a source), overlap: moves that could
+/// see each other.
+std::size_t
+blocksThatSeeEachOther(const BlockProbe& probe, const vdbi::GuardedMoves::IndependentBlocks& b)
+{
+    std::size_t count = 0;
+    for (int colour = 0; colour < 8; ++colour) {
+        for (std::size_t i = b.colourStart[colour]; i < b.colourStart[colour + 1]; ++i) {
+            for (std::size_t j = i + 1; j < b.colourStart[colour + 1]; ++j) {
+                for (std::size_t p = b.blockStart[i]; p < b.blockStart[i + 1]; ++p) {
+                    for (std::size_t q = b.blockStart[j]; q < b.blockStart[j + 1]; ++q) {
+                        openvdb::Vec3i lv, hv, lw, hw;
+                        probe.fanCells(b.points[p], lv, hv);
+                        probe.fanCells(b.points[q], lw, hw);
+                        bool apart = false;
+                        for (int k = 0; k < 3; ++k) {
+                            apart = apart || lw[k] > hv[k] + 1 || lv[k] > hw[k] + 1;
+                        }
+                        count += !apart;
+                    }
+                }
+            }
+        }
+    }
+    return count;
+}
+
+} // namespace
+
+// independentBlocks() on a plane of 40 x 40 points: every movable point once, ascending in
+// its block; several blocks per colour; no two points in different blocks of a colour whose
+// guards could see each other's fans. The check finds such pairs in a bad partition (every
+// point its own block, all of one colour).
+TEST_F(TestPatchSeparation, testIndependentBlocksKeepMovesApart)
+{
+    std::vector<std::uint8_t> movable;
+    vdbi::InterfaceMesh mesh = jitteredPlane(40, movable);
+    const vdbi::SeparationSettings settings = unitSettings();
+    const BlockProbe probe(mesh, movable, settings, nullptr);
+    std::vector<std::uint32_t> all(mesh.points.size());
+    for (std::uint32_t v = 0; v < all.size(); ++v) all[v] = v;
+    const vdbi::GuardedMoves::IndependentBlocks blocks = probe.independentBlocks(all);
+
+    ASSERT_EQ(blocks.colourStart.size(), 9u);
+    EXPECT_EQ(blocks.colourStart.front(), 0u);
+    EXPECT_EQ(blocks.colourStart.back(), blocks.blockStart.size() - 1);
+    EXPECT_TRUE(std::is_sorted(blocks.colourStart.begin(), blocks.colourStart.end()));
+    std::vector<int> seen(mesh.points.size(), 0);
+    for (std::size_t b = 0; b + 1 < blocks.blockStart.size(); ++b) {
+        EXPECT_LT(blocks.blockStart[b], blocks.blockStart[b + 1]) << "block " << b;
+        EXPECT_TRUE(std::is_sorted(blocks.points.begin() + blocks.blockStart[b],
+                                   blocks.points.begin() + blocks.blockStart[b + 1]));
+    }
+    for (const std::uint32_t v : blocks.points) ++seen[v];
+    for (std::uint32_t v = 0; v < seen.size(); ++v) EXPECT_EQ(seen[v], movable[v]) << v;
+    std::size_t busiest = 0;
+    for (int c = 0; c < 8; ++c) {
+        busiest = std::max(busiest, blocks.colourStart[c + 1] - blocks.colourStart[c]);
+    }
+    EXPECT_GE(busiest, 4u);
+    EXPECT_EQ(blocksThatSeeEachOther(probe, blocks), 0u);
+
+    vdbi::GuardedMoves::IndependentBlocks bad;
+    for (std::size_t i = 0; i < blocks.points.size(); ++i) {
+        bad.points.push_back(blocks.points[i]);
+        bad.blockStart.push_back(i);
+    }
+    bad.blockStart.push_back(bad.points.size());
+    bad.colourStart.assign(9, bad.points.size());
+    bad.colourStart[0] = 0;
+    EXPECT_GT(blocksThatSeeEachOther(probe, bad), 0u);
+}
+
+// shapeSharpFans() moves many points of the jittered plane, the same way on one thread and
+// on several, and every move is allowed.
+TEST_F(TestPatchSeparation, testShapeSharpFansSameOnAnyThreads)
+{
+    std::vector<std::uint8_t> movable;
+    const vdbi::InterfaceMesh start = jitteredPlane(40, movable);
+    std::vector<std::uint32_t> all(start.points.size());
+    for (std::uint32_t v = 0; v < all.size(); ++v) all[v] = v;
+    vdbi::SeparationSettings settings = unitSettings();
+    settings.threaded = false;
+    vdbi::InterfaceMesh serial = start;
+    const std::size_t moved = vdbi::shapeSharpFans(serial, movable, settings, all);
+    EXPECT_GT(moved, 100u);
+    expectAllowedMoves(start, serial, movable, settings.maxMove);
+    EXPECT_TRUE(intersectingPairs(serial).empty());
+
+    settings.threaded = true;
+    vdbi::InterfaceMesh threaded = start;
+    EXPECT_EQ(vdbi::shapeSharpFans(threaded, movable, settings, all), moved);
+    EXPECT_EQ(threaded.points, serial.points);
 }

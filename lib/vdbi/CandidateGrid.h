@@ -134,6 +134,15 @@ public:
         }
     }
 
+    /// The cells [@a low, @a high] that the (widened) box of triangle @a f overlaps.
+    void cellRange(std::uint32_t f, openvdb::Vec3i& low, openvdb::Vec3i& high) const
+    {
+        low = mLow[f];
+        high = mHigh[f];
+    }
+    /// The width of a cell.
+    double cellWidth() const { return 1.0 / mInverse; }
+
     /// @brief Every pair (first < second) of triangles sharing a cell that @a meet accepts,
     /// once each, in the order of the cells.
     TrianglePairs allMeetingPairs(const MeetTest& meet, bool threaded) const;

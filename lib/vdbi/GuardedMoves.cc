@@ -30,18 +30,124 @@ patchesAround(std::uint32_t v, const std::vector<std::uint32_t>& first,
 }
 
 
+GuardedMoves::State::State(InterfaceMesh& mesh, const SeparationSettings& settings,
+                           const PointArray* start)
+    : ownOrigin(start ? PointArray() : mesh.points)
+    , origin(start ? *start : ownOrigin)
+    , patchOf(trianglePatches(mesh))
+    , grid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
+{
+    trianglesAroundPoints(mesh, this->start, around);
+    if (settings.source) {
+        startDistance.assign(mesh.points.size(), std::numeric_limits<double>::quiet_NaN());
+    }
+}
+
+
 GuardedMoves::GuardedMoves(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                            const SeparationSettings& settings, const PointArray* start)
     : mMesh(mesh), mMovable(movable), mSettings(settings)
-    , mOwnOrigin(start ? PointArray() : mesh.points)
-    , mOrigin(start ? *start : mOwnOrigin)
-    , mPatchOf(trianglePatches(mesh))
-    , mGrid(mesh, settings.cellSize, settings.maxMove, settings.threaded)
+    , mState(std::make_shared<State>(mesh, settings, start))
+    , mOrigin(mState->origin), mPatchOf(mState->patchOf), mGrid(mState->grid)
+    , mStart(mState->start), mAround(mState->around), mStartDistance(mState->startDistance)
 {
-    trianglesAroundPoints(mesh, mStart, mAround);
-    if (settings.source) {
-        mStartDistance.assign(mesh.points.size(), std::numeric_limits<double>::quiet_NaN());
+}
+
+
+GuardedMoves::GuardedMoves(const GuardedMoves& other)
+    : mMesh(other.mMesh), mMovable(other.mMovable), mSettings(other.mSettings)
+    , mState(other.mState)
+    , mOrigin(mState->origin), mPatchOf(mState->patchOf), mGrid(mState->grid)
+    , mStart(mState->start), mAround(mState->around), mStartDistance(mState->startDistance)
+{
+}
+
+
+GuardedMoves::IndependentBlocks
+GuardedMoves::independentBlocks(const std::vector<std::uint32_t>& points) const
+{
+    using openvdb::Vec3i;
+    // The cells of every point's fan, and the widest fan.
+    struct Entry
+    {
+        std::uint32_t point;
+        Vec3i low;
+    };
+    std::vector<Entry> entries;
+    Vec3i widest(0);
+    for (const std::uint32_t v : points) {
+        if (!mMovable[v] || mStart[v] == mStart[v + 1]) continue;
+        Vec3i low(std::numeric_limits<int>::max()), high(std::numeric_limits<int>::min());
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            Vec3i lo, hi;
+            mGrid.cellRange(mAround[i], lo, hi);
+            low = openvdb::math::minComponent(low, lo);
+            high = openvdb::math::maxComponent(high, hi);
+        }
+        widest = openvdb::math::maxComponent(widest, high - low);
+        entries.push_back({v, low});
     }
+    // Beyond a fan's cells, the guards look for triangles within the source limit of points
+    // within it of the fan: twice the limit farther, in world units.
+    int reach = 1;
+    if (mSettings.source) {
+        const Vec3d voxel = mSettings.source->world(Vec3d(1.0));
+        const double world = 2.0 * mSettings.sourceLimit * std::max({voxel[0], voxel[1], voxel[2]});
+        reach += int(std::ceil(world / mGrid.cellWidth()));
+    }
+    // A block of a colour starts over a block's width past the end of another's last fan.
+    const Vec3i width = widest + Vec3i(reach + 1);
+    auto blockOf = [&](const Vec3i& low) {
+        Vec3i b;
+        for (int k = 0; k < 3; ++k) {
+            b[k] = low[k] >= 0 ? low[k] / width[k] : -((-low[k] - 1) / width[k]) - 1;
+        }
+        return b;
+    };
+    auto colourOf = [](const Vec3i& b) { return (b[0] & 1) | (b[1] & 1) << 1 | (b[2] & 1) << 2; };
+    // By colour, block, point.
+    std::sort(entries.begin(), entries.end(), [&](const Entry& x, const Entry& y) {
+        const Vec3i bx = blockOf(x.low), by = blockOf(y.low);
+        const int cx = colourOf(bx), cy = colourOf(by);
+        if (cx != cy) return cx < cy;
+        if (bx != by) return bx < by;
+        return x.point < y.point;
+    });
+    IndependentBlocks blocks;
+    blocks.colourStart.assign(1, 0);
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const Vec3i b = blockOf(entries[i].low);
+        const bool newBlock = i == 0 || b != blockOf(entries[i - 1].low);
+        if (newBlock) {
+            const int colour = colourOf(b);
+            while (int(blocks.colourStart.size()) <= colour) {
+                blocks.colourStart.push_back(blocks.blockStart.size());
+            }
+            blocks.blockStart.push_back(i);
+        }
+        blocks.points.push_back(entries[i].point);
+    }
+    blocks.blockStart.push_back(entries.size());
+    while (blocks.colourStart.size() <= 8) {
+        blocks.colourStart.push_back(blocks.blockStart.size() - 1);
+    }
+    return blocks;
+}
+
+
+void
+GuardedMoves::buildSourceCells(const std::vector<std::uint32_t>& points)
+{
+    if (!mSettings.source) return;
+    std::vector<std::uint32_t> patches;
+    for (const std::uint32_t v : points) {
+        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
+            patches.push_back(mPatchOf[mAround[i]]);
+        }
+    }
+    std::sort(patches.begin(), patches.end());
+    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+    mSettings.source->buildCells(patches);
 }
 
 

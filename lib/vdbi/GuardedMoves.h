@@ -17,6 +17,7 @@
 #include <openvdb/Types.h>
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -36,8 +37,10 @@ void patchesAround(std::uint32_t v, const std::vector<std::uint32_t>& first,
 
 /// @brief The state the passes after remeshing move points with: the triangles around every
 /// point, the candidate grid, where every point started; and moveTo(), with its guards.
-/// @details The passes derive from it (PatchSeparation.cc). Moves are serial: the result
-/// depends on the mesh and the order of the moves alone.
+/// @details The passes derive from it (PatchSeparation.cc). The result depends on the mesh
+/// and the order of the moves alone. A copy shares the state with the original and has its
+/// own scratch: copies may move points on other threads where the moves cannot see each
+/// other (independentBlocks()), the source's cells built beforehand (buildSourceCells()).
 class GuardedMoves
 {
 public:
@@ -48,8 +51,46 @@ public:
     ///               @a mesh if null
     GuardedMoves(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                  const SeparationSettings& settings, const PointArray* start);
+    GuardedMoves(const GuardedMoves& other);
+    GuardedMoves& operator=(const GuardedMoves&) = delete;
+
+    /// @brief Points to move, in blocks whose moves cannot see each other: a block's moves,
+    /// in its order, have the same result whether the other blocks of its colour move
+    /// before, after or at the same time (on other threads, by copies of this).
+    /// @details The guards of a move read the triangles in the grid cells of the point's
+    /// fan and in those a few cells around (the source bound's search); a block is wider
+    /// than that and than any fan, and a colour is one of the 8 parities of the blocks'
+    /// indices: two blocks of a colour have a block between them.
+    struct IndependentBlocks
+    {
+        std::vector<std::uint32_t> points;   ///< ascending within a block
+        /// Block b is points [blockStart[b], blockStart[b + 1]); colour c is blocks
+        /// [colourStart[c], colourStart[c + 1]).
+        std::vector<std::size_t> blockStart, colourStart;
+    };
+    /// Those of @a points that are movable and have triangles, in IndependentBlocks.
+    IndependentBlocks independentBlocks(const std::vector<std::uint32_t>& points) const;
+
+    /// Builds the source's cells (RawPatchDistance::buildCells()) of the patches around
+    /// @a points, for copies on other threads to read.
+    void buildSourceCells(const std::vector<std::uint32_t>& points);
 
 protected:
+    /// What every copy shares.
+    struct State
+    {
+        State(InterfaceMesh& mesh, const SeparationSettings& settings, const PointArray* start);
+
+        const PointArray ownOrigin;
+        const PointArray& origin;
+        const std::vector<std::uint32_t> patchOf;
+        const CandidateGrid grid;
+        std::vector<std::uint32_t> start, around;
+        /// Per point, its start's distance to its source (NaN until asked): written only by
+        /// the mover of that point.
+        std::vector<double> startDistance;
+    };
+
     /// @brief Moves @a v to @a next if that leaves at most @a limit meeting pairs around it,
     /// keeps it within maxMove of its start and turns no triangle around it over.
     /// @details A triangle that faced against the vertex normal @a normal (a fold, or no
@@ -106,20 +147,21 @@ protected:
     InterfaceMesh& mMesh;
     const std::vector<std::uint8_t>& mMovable;
     const SeparationSettings& mSettings;
+    std::shared_ptr<State> mState;
     /// Where every point started: the caller's, or a copy of the points.
-    const PointArray mOwnOrigin;
     const PointArray& mOrigin;
-    std::vector<std::uint32_t> mPatchOf;
-    const CandidateGrid mGrid;
+    const std::vector<std::uint32_t>& mPatchOf;
+    const CandidateGrid& mGrid;
     /// Triangles around every point: mAround[mStart[v] .. mStart[v + 1]).
-    std::vector<std::uint32_t> mStart, mAround;
+    const std::vector<std::uint32_t>& mStart;
+    const std::vector<std::uint32_t>& mAround;
     std::vector<Vec3d> mBefore;
     /// The pairs meeting around the point or points being moved, before they move (set by
     /// the caller of moveTo(): meetingsAround() or meetingsAmong()).
     Pairs mMeetingHere;
-    /// Per point, its start's distance to its source (NaN until asked), and keepsClose()'s
-    /// patches.
-    std::vector<double> mStartDistance;
+    /// Per point, its start's distance to its source (State::startDistance), and
+    /// keepsClose()'s patches.
+    std::vector<double>& mStartDistance;
     std::vector<std::uint32_t> mPatchesHere;
     /// keepsSourceCovered()'s: the points moved and where they were; the changed triangles
     /// of one patch now and before, in voxel units; the patches of the changed triangles.

@@ -8,9 +8,13 @@
 #include <vdbi/ReferenceSurface.h>
 #include <vdbi/TriangleCrossing.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <utility>
 
@@ -51,6 +55,8 @@ public:
         : GuardedMoves(mesh, movable, settings, start)
     {
     }
+    /// A mover with its own scratch, sharing the state of @a other.
+    Separation(const Separation& other) : GuardedMoves(other) {}
 
     /// The rounds; returns every pair of triangles meeting after them, ascending.
     /// @param known  all pairs meeting before them if the caller knows (else searched for)
@@ -493,8 +499,32 @@ shapeSharpFans(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                const SeparationSettings& settings, const std::vector<std::uint32_t>& points)
 {
     Separation separation(mesh, movable, settings, nullptr);
+    const Separation::IndependentBlocks blocks = separation.independentBlocks(points);
+    separation.buildSourceCells(blocks.points);
+    auto shapeBlocks = [&](std::size_t begin, std::size_t end) {
+        Separation mover(separation);
+        std::size_t moved = 0;
+        for (std::size_t b = begin; b < end; ++b) {
+            for (std::size_t i = blocks.blockStart[b]; i < blocks.blockStart[b + 1]; ++i) {
+                moved += mover.shapeFan(blocks.points[i]);
+            }
+        }
+        return moved;
+    };
     std::size_t moved = 0;
-    for (const std::uint32_t v : points) moved += separation.shapeFan(v);
+    for (int colour = 0; colour < 8; ++colour) {
+        const std::size_t begin = blocks.colourStart[colour], end = blocks.colourStart[colour + 1];
+        if (!settings.threaded) {
+            moved += shapeBlocks(begin, end);
+            continue;
+        }
+        moved += tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(begin, end, 1), std::size_t(0),
+            [&](const tbb::blocked_range<std::size_t>& r, std::size_t sum) {
+                return sum + shapeBlocks(r.begin(), r.end());
+            },
+            std::plus<std::size_t>());
+    }
     return moved;
 }
 

@@ -165,8 +165,9 @@ std::size_t pullTowardsFaceCentres(InterfaceMesh& mesh, const std::vector<std::u
 /// they are: there, other patches come close. Here every patch is in sight. Fans with an
 /// angle under SHARP_FAN_DEGREES but no sharp triangle stay: at 4 voxels, shaping them too
 /// doubled the time of this step (frog: about 17 s instead of 9 s on 2 threads) for 0.1
-/// degree at the 1st percentile. The moves are serial, in the order of @a points: the
-/// result depends on the mesh alone.
+/// degree at the 1st percentile. The points move in blocks that cannot see each other's
+/// moves (GuardedMoves::independentBlocks()), those of a colour in parallel if
+/// settings.threaded, each block's in its order: the result depends on the mesh alone.
 /// @return the number of points moved
 std::size_t shapeSharpFans(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
                            const SeparationSettings& settings,

@@ -121,6 +121,13 @@ RawPatchDistance::cellsOf(std::uint32_t patch)
 }
 
 
+void
+RawPatchDistance::buildCells(const std::vector<std::uint32_t>& patches)
+{
+    for (const std::uint32_t patch : patches) cellsOf(patch);
+}
+
+
 RawPatchDistance::Hit
 RawPatchDistance::nearest(const Vec3d& p, std::uint32_t patch)
 {
@@ -239,13 +246,15 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
         return std::any_of(then.begin(), then.end(),
                            [&](const GuardTriangle& t) { return t.isNear(q, limit); });
     };
-    mGuarded.clear();
-    guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), nearBefore, mGuarded);
+    // Reused, one per thread (see buildCells()).
+    thread_local std::vector<Vec3d> guarded;
+    guarded.clear();
+    guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), nearBefore, guarded);
     auto within = [&](const Vec3d& q, const std::vector<GuardTriangle>& triangles) {
         return std::any_of(triangles.begin(), triangles.end(),
                            [&](const GuardTriangle& t) { return t.isWithin(q, limit); });
     };
-    for (const Vec3d& q : mGuarded) {
+    for (const Vec3d& q : guarded) {
         if (!within(q, after) && within(q, then) && !coveredElsewhere(q)) return false;
     }
     return true;

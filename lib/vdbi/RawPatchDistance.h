@@ -39,8 +39,8 @@ bool ownsFaceCentre(const openvdb::Vec3d (&corner)[3], const openvdb::Vec3d& cen
 /// @details A patch's triangles are sorted into cells of one voxel by their centroids when a
 /// distance to it is first asked: the moves after remeshing ask few distances, and building
 /// a KD-tree with its normals (ReferenceSurface) for each patch they touch took separation on
-/// the frog at 2 voxels from 1.7 to 4.1 s (2.1 s with the cells). Not thread-safe: one caller
-/// at a time.
+/// the frog at 2 voxels from 1.7 to 4.1 s (2.1 s with the cells). One caller at a time, but
+/// for callers that ask only about patches whose cells buildCells() built.
 class RawPatchDistance
 {
 public:
@@ -57,6 +57,9 @@ public:
         openvdb::Vec3d point;   ///< in world space; the query itself if none is in the radius
         double distance = 0.0;  ///< in voxels, at most the radius
     };
+
+    /// Sorts the triangles of @a patches into their cells now, not when first asked.
+    void buildCells(const std::vector<std::uint32_t>& patches);
 
     /// The point of patch @a patch of the raw mesh nearest to world point @a p.
     Hit nearest(const openvdb::Vec3d& p, std::uint32_t patch);
@@ -115,7 +118,6 @@ private:
     const double mRadius;
     const bool mThreaded;
     std::vector<Cells> mCells;
-    std::vector<openvdb::Vec3d> mGuarded;   ///< keepsCovered()'s
 };
 
 } // namespace vdbi
