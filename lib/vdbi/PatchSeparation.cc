@@ -5,16 +5,14 @@
 #include <vdbi/CandidateGrid.h>
 #include <vdbi/FanShape.h>
 #include <vdbi/GuardedMoves.h>
+#include <vdbi/ParallelRanges.h>
 #include <vdbi/ReferenceSurface.h>
 #include <vdbi/TriangleCrossing.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
-
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <utility>
 
@@ -511,19 +509,13 @@ shapeSharpFans(InterfaceMesh& mesh, const std::vector<std::uint8_t>& movable,
         }
         return moved;
     };
-    std::size_t moved = 0;
+    std::atomic<std::size_t> moved{0};
     for (int colour = 0; colour < 8; ++colour) {
-        const std::size_t begin = blocks.colourStart[colour], end = blocks.colourStart[colour + 1];
-        if (!settings.threaded) {
-            moved += shapeBlocks(begin, end);
-            continue;
-        }
-        moved += tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(begin, end, 1), std::size_t(0),
-            [&](const tbb::blocked_range<std::size_t>& r, std::size_t sum) {
-                return sum + shapeBlocks(r.begin(), r.end());
-            },
-            std::plus<std::size_t>());
+        const std::size_t first = blocks.colourStart[colour];
+        forEachRange(blocks.colourStart[colour + 1] - first, 1, settings.threaded,
+                     [&](std::size_t begin, std::size_t end) {
+            moved += shapeBlocks(first + begin, first + end);
+        });
     }
     return moved;
 }
