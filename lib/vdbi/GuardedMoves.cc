@@ -67,13 +67,8 @@ GuardedMoves::IndependentBlocks
 GuardedMoves::independentBlocks(const std::vector<std::uint32_t>& points) const
 {
     using openvdb::Vec3i;
-    // The cells of every point's fan, and the widest fan.
-    struct Entry
-    {
-        std::uint32_t point;
-        Vec3i low;
-    };
-    std::vector<Entry> entries;
+    // The first cell of every point's fan, and the widest fan.
+    std::vector<std::pair<std::uint32_t, Vec3i>> firstCells;
     Vec3i widest(0);
     for (const std::uint32_t v : points) {
         if (!mMovable[v] || mStart[v] == mStart[v + 1]) continue;
@@ -85,7 +80,7 @@ GuardedMoves::independentBlocks(const std::vector<std::uint32_t>& points) const
             high = openvdb::math::maxComponent(high, hi);
         }
         widest = openvdb::math::maxComponent(widest, high - low);
-        entries.push_back({v, low});
+        firstCells.emplace_back(v, low);
     }
     // Beyond a fan's cells, the guards look for triangles within the source limit of points
     // within it of the fan: twice the limit farther, in world units.
@@ -97,30 +92,32 @@ GuardedMoves::independentBlocks(const std::vector<std::uint32_t>& points) const
     }
     // A block of a colour starts over a block's width past the end of another's last fan.
     const Vec3i width = widest + Vec3i(reach + 1);
-    auto blockOf = [&](const Vec3i& low) {
+    struct Entry
+    {
+        int colour;
+        Vec3i block;
+        std::uint32_t point;
+    };
+    std::vector<Entry> entries;
+    entries.reserve(firstCells.size());
+    for (const auto& [v, low] : firstCells) {
         Vec3i b;
         for (int k = 0; k < 3; ++k) {
             b[k] = low[k] >= 0 ? low[k] / width[k] : -((-low[k] - 1) / width[k]) - 1;
         }
-        return b;
-    };
-    auto colourOf = [](const Vec3i& b) { return (b[0] & 1) | (b[1] & 1) << 1 | (b[2] & 1) << 2; };
+        entries.push_back({(b[0] & 1) | (b[1] & 1) << 1 | (b[2] & 1) << 2, b, v});
+    }
     // By colour, block, point.
-    std::sort(entries.begin(), entries.end(), [&](const Entry& x, const Entry& y) {
-        const Vec3i bx = blockOf(x.low), by = blockOf(y.low);
-        const int cx = colourOf(bx), cy = colourOf(by);
-        if (cx != cy) return cx < cy;
-        if (bx != by) return bx < by;
+    std::sort(entries.begin(), entries.end(), [](const Entry& x, const Entry& y) {
+        if (x.colour != y.colour) return x.colour < y.colour;
+        if (x.block != y.block) return x.block < y.block;
         return x.point < y.point;
     });
     IndependentBlocks blocks;
     blocks.colourStart.assign(1, 0);
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        const Vec3i b = blockOf(entries[i].low);
-        const bool newBlock = i == 0 || b != blockOf(entries[i - 1].low);
-        if (newBlock) {
-            const int colour = colourOf(b);
-            while (int(blocks.colourStart.size()) <= colour) {
+        if (i == 0 || entries[i].block != entries[i - 1].block) {
+            while (int(blocks.colourStart.size()) <= entries[i].colour) {
                 blocks.colourStart.push_back(blocks.blockStart.size());
             }
             blocks.blockStart.push_back(i);
