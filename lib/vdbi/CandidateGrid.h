@@ -67,7 +67,7 @@ forEachEntryInCells(const std::vector<std::pair<std::uint64_t, std::uint32_t>>& 
                 } else {
                     begin = end = hint;
                 }
-                Iterator it = begin == end ? begin : std::lower_bound(begin, end, key);
+                Iterator it = std::lower_bound(begin, end, key);
                 for (; it != entries.end() && it->first <= last; ++it) body(it->second);
                 hint = it;
             };

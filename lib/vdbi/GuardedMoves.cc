@@ -136,14 +136,12 @@ void
 GuardedMoves::buildSourceCells(const std::vector<std::uint32_t>& points)
 {
     if (!mSettings.source) return;
-    std::vector<std::uint32_t> patches;
+    std::vector<std::uint32_t> triangles, patches;
     for (const std::uint32_t v : points) {
-        for (std::uint32_t i = mStart[v]; i < mStart[v + 1]; ++i) {
-            patches.push_back(mPatchOf[mAround[i]]);
-        }
+        triangles.insert(triangles.end(), mAround.begin() + mStart[v],
+                         mAround.begin() + mStart[v + 1]);
     }
-    std::sort(patches.begin(), patches.end());
-    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+    patchesOf(triangles.data(), triangles.data() + triangles.size(), mPatchOf, patches);
     mSettings.source->buildCells(patches);
 }
 
