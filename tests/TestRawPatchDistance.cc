@@ -192,6 +192,37 @@ TEST_F(TestRawPatchDistance, testKeepsTheFaceCentreNotTheCentroids)
     EXPECT_TRUE(distance.keepsCovered(0, square, withCentre, 0.1, nowhere));
 }
 
+// A triangle in both lists keeps the points near it: only those near the others are asked
+// about. The square's halves as they are; the second then lifted by 1.2 voxels.
+TEST_F(TestRawPatchDistance, testKeepsWhatUnchangedTrianglesCover)
+{
+    const vdbi::InterfaceMesh raw = twoSquares();
+    vdbi::RawPatchDistance distance(raw, Vec3d(1, 1, 2), 1.5);
+    using Corners = vdbi::RawPatchDistance::Corners;
+    auto half = [](int k, double z) {
+        return k == 0 ? Corners{{Vec3d(0, 0, z), Vec3d(1, 0, z), Vec3d(1, 1, z)}}
+                      : Corners{{Vec3d(0, 0, z), Vec3d(1, 1, z), Vec3d(0, 1, z)}};
+    };
+    int asked = 0;
+    auto nowhere = [&asked](const Vec3d&) {
+        ++asked;
+        return false;
+    };
+    const std::vector<Corners> square = {half(0, 0.0), half(1, 0.0)};
+    // Nothing changed: nothing to ask about.
+    EXPECT_TRUE(distance.keepsCovered(0, square, square, 0.1, nowhere));
+    EXPECT_EQ(asked, 0);
+    // The first half stays: it keeps the centre (on its edge) and its own centroid, not the
+    // other half's centroid (1/3, 2/3), 0.24 from it.
+    const std::vector<Corners> firstStays = {half(0, 0.0), half(1, 1.2)};
+    EXPECT_FALSE(distance.keepsCovered(0, square, firstStays, 0.1, nowhere));
+    EXPECT_EQ(asked, 1);
+    // Under a limit of 0.3 the first half reaches that centroid too.
+    asked = 0;
+    EXPECT_TRUE(distance.keepsCovered(0, square, firstStays, 0.3, nowhere));
+    EXPECT_EQ(asked, 0);
+}
+
 // The centre of the voxel face a raw triangle belongs to: the two halves of a face, the fan
 // triangles of a face with split sides (odd and even subdivisions), voxels of 1 x 1 x 1.5.
 TEST_F(TestRawPatchDistance, testVoxelFaceCentre)

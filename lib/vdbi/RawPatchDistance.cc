@@ -225,6 +225,24 @@ struct GuardTriangle
     bool hasPlane;
 };
 
+/// @brief Does @a test hold for one of @a triangles? Tries the one it last held for first
+/// (@a hint, updated to the one it holds for): the points come cell by cell, and neighbours
+/// mostly lie near the same triangle.
+template<typename Test>
+bool
+anyFromHint(const std::vector<GuardTriangle>& triangles, std::size_t& hint, const Test& test)
+{
+    const std::size_t n = triangles.size();
+    for (std::size_t j = 0; j < n; ++j) {
+        const std::size_t k = hint + j < n ? hint + j : hint + j - n;
+        if (test(triangles[k])) {
+            hint = k;
+            return true;
+        }
+    }
+    return false;
+}
+
 } // namespace
 
 
@@ -233,8 +251,23 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
                                const std::vector<Corners>& now, double limit,
                                const std::function<bool(const Vec3d&)>& coveredElsewhere)
 {
-    const std::vector<GuardTriangle> then(before.begin(), before.end()),
-        after(now.begin(), now.end());
+    // A triangle in both lists keeps the points within the limit of it: only the points
+    // near the others can be lost (a collapse into a point that stays keeps half its fan).
+    auto isSame = [](const Corners& s, const Corners& t) {
+        for (int i = 0; i < 3; ++i) {
+            for (int k = 0; k < 3; ++k) if (s.c[i][k] != t.c[i][k]) return false;
+        }
+        return true;
+    };
+    std::vector<GuardTriangle> then;
+    then.reserve(before.size());
+    for (const Corners& t : before) {
+        const bool kept = std::any_of(now.begin(), now.end(),
+                                      [&](const Corners& n) { return isSame(t, n); });
+        if (!kept) then.emplace_back(t);
+    }
+    if (then.empty()) return true;
+    const std::vector<GuardTriangle> after(now.begin(), now.end());
     // Only points within the limit of a changed triangle as it was can have lost it; the
     // box of those holds them all, and most of its points are not near any.
     Vec3d low(std::numeric_limits<double>::max()), high(-low);
@@ -242,20 +275,24 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
         low = openvdb::math::minComponent(low, t.low);
         high = openvdb::math::maxComponent(high, t.high);
     }
+    std::size_t nearHint = 0, thenHint = 0, afterHint = 0;
     auto nearBefore = [&](const Vec3d& q) {
-        return std::any_of(then.begin(), then.end(),
+        return anyFromHint(then, nearHint,
                            [&](const GuardTriangle& t) { return t.isNear(q, limit); });
     };
     // Reused, one per thread (see buildCells()).
     thread_local std::vector<Vec3d> guarded;
     guarded.clear();
     guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), nearBefore, guarded);
-    auto within = [&](const Vec3d& q, const std::vector<GuardTriangle>& triangles) {
-        return std::any_of(triangles.begin(), triangles.end(),
+    auto within = [&](const Vec3d& q, const std::vector<GuardTriangle>& triangles,
+                      std::size_t& hint) {
+        return anyFromHint(triangles, hint,
                            [&](const GuardTriangle& t) { return t.isWithin(q, limit); });
     };
     for (const Vec3d& q : guarded) {
-        if (!within(q, after) && within(q, then) && !coveredElsewhere(q)) return false;
+        if (!within(q, after, afterHint) && within(q, then, thenHint) && !coveredElsewhere(q)) {
+            return false;
+        }
     }
     return true;
 }
