@@ -280,48 +280,44 @@ RawPatchDistance::keepsCovered(std::uint32_t patch, const std::vector<Corners>& 
         return anyFromHint(then, nearHint,
                            [&](const GuardTriangle& t) { return t.isNear(q, limit); });
     };
-    // Reused, one per thread (see buildCells()).
-    thread_local std::vector<Vec3d> guarded;
-    guarded.clear();
-    guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), nearBefore, guarded);
     auto within = [&](const Vec3d& q, const std::vector<GuardTriangle>& triangles,
                       std::size_t& hint) {
         return anyFromHint(triangles, hint,
                            [&](const GuardTriangle& t) { return t.isWithin(q, limit); });
     };
-    for (const Vec3d& q : guarded) {
-        if (!within(q, after, afterHint) && within(q, then, thenHint) && !coveredElsewhere(q)) {
-            return false;
-        }
-    }
-    return true;
+    // Each point is judged as it is found: the first one lost ends the search.
+    return guardedPointsIn(patch, low - Vec3d(limit), high + Vec3d(limit), [&](const Vec3d& q) {
+        return !nearBefore(q) || within(q, after, afterHint) || !within(q, then, thenHint)
+            || coveredElsewhere(q);
+    });
 }
 
 
-template<typename Keep>
-void
+template<typename Visit>
+bool
 RawPatchDistance::guardedPointsIn(std::uint32_t patch, const Vec3d& low, const Vec3d& high,
-                                  const Keep& keep, std::vector<Vec3d>& points)
+                                  const Visit& visit)
 {
     const Cells& cells = cellsOf(patch);
     // Cells hold triangles by centroid: a face centre in the box has its triangle's centroid
     // within centreReach of it.
     const Vec3d cellLow = low - Vec3d(cells.centreReach),
                 cellHigh = high + Vec3d(cells.centreReach);
+    bool goOn = true;
     forEachEntryInCells(cells.entries, cellOf(cellLow, 1.0), cellOf(cellHigh, 1.0),
                         [&](std::uint32_t t) {
+        if (!goOn) return;
         const openvdb::Vec3I& tri = mRaw.triangles[t];
         const Vec3d corner[3] = {scaled(mRaw.points[tri[0]]), scaled(mRaw.points[tri[1]]),
                                  scaled(mRaw.points[tri[2]])};
         const Vec3d centroid = (corner[0] + corner[1] + corner[2]) / 3.0;
-        if (isInBox(centroid, low, high) && keep(centroid)) points.push_back(centroid);
+        if (isInBox(centroid, low, high)) goOn = visit(centroid);
         // The face centre is within centreReach of the centroid.
-        if (!isInBox(centroid, cellLow, cellHigh)) return;
+        if (!goOn || !isInBox(centroid, cellLow, cellHigh)) return;
         const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
-        if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre) && keep(centre)) {
-            points.push_back(centre);
-        }
+        if (isInBox(centre, low, high) && ownsFaceCentre(corner, centre)) goOn = visit(centre);
     });
+    return goOn;
 }
 
 

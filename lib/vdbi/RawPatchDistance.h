@@ -105,13 +105,12 @@ private:
     };
 
     const Cells& cellsOf(std::uint32_t patch);
-    /// Appends the centroids of patch @a patch's triangles in the box [@a low, @a high], and
-    /// their voxel face centres there (a face's once for its two halves), those of them
-    /// that @a keep(point) is true for.
-    template<typename Keep>
-    void guardedPointsIn(std::uint32_t patch, const openvdb::Vec3d& low,
-                         const openvdb::Vec3d& high, const Keep& keep,
-                         std::vector<openvdb::Vec3d>& points);
+    /// @brief Calls @a visit(point) for the centroids of patch @a patch's triangles in the box
+    /// [@a low, @a high], and for their voxel face centres there (a face's once for its two
+    /// halves), until it returns false; returns false if it did.
+    template<typename Visit>
+    bool guardedPointsIn(std::uint32_t patch, const openvdb::Vec3d& low,
+                         const openvdb::Vec3d& high, const Visit& visit);
 
     const InterfaceMesh& mRaw;
     const openvdb::Vec3d mVoxel, mInverse;
