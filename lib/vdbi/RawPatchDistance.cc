@@ -201,13 +201,10 @@ struct GuardTriangle
         normal = hasPlane ? n / n.length() : Vec3d(0.0);
     }
 
-    /// RawPatchDistance::isWithin(), the same answer to every point.
+    /// RawPatchDistance::isWithin(), after the slab has turned most points away.
     bool isWithin(const Vec3d& q, double limit) const
     {
-        if (!isNear(q, limit)) return false;
-        Vec3d bary;
-        return (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).lengthSqr()
-            <= limit * limit;
+        return isNear(q, limit) && RawPatchDistance::isWithin(q, t, limit);
     }
 
     /// False only if @a q is farther than @a limit from the triangle.
