@@ -65,6 +65,16 @@ isInBox(const Vec3d& q, const Vec3d& low, const Vec3d& high)
         && q[1] <= high[1] && q[2] <= high[2];
 }
 
+/// Is the closest point of triangle @a t to @a q within @a limit of it (no quick rejection
+/// first: the callers have made theirs)?
+bool
+isClosestWithin(const Vec3d& q, const RawPatchDistance::Corners& t, double limit)
+{
+    Vec3d bary;
+    return (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).lengthSqr()
+        <= limit * limit;
+}
+
 } // namespace
 
 
@@ -176,9 +186,7 @@ RawPatchDistance::isWithin(const Vec3d& q, const Corners& t, double limit)
             return false;
         }
     }
-    Vec3d bary;
-    return (closestPointOnTriangle(q, t.c[0], t.c[1], t.c[2], bary) - q).lengthSqr()
-        <= limit * limit;
+    return isClosestWithin(q, t, limit);
 }
 
 
@@ -201,10 +209,11 @@ struct GuardTriangle
         normal = hasPlane ? n / n.length() : Vec3d(0.0);
     }
 
-    /// RawPatchDistance::isWithin(), after the slab has turned most points away.
+    /// RawPatchDistance::isWithin(), the same answer to every point: isNear() holds its box
+    /// test and adds the slab's.
     bool isWithin(const Vec3d& q, double limit) const
     {
-        return isNear(q, limit) && RawPatchDistance::isWithin(q, t, limit);
+        return isNear(q, limit) && isClosestWithin(q, t, limit);
     }
 
     /// False only if @a q is farther than @a limit from the triangle.
