@@ -189,8 +189,12 @@ SharpFanSmoother::smooth(bool aside)
             if (mMesh.status(v).deleted() || !mPatch.isFree(v)) continue;
             const FanShape old = fanShape(v);
             if (!old.isSharp()) continue;
-            if (aside && (nextToTightBoundary(v) || mFolds.fanCrossings(v) > 0)) continue;
+            if (aside && nextToTightBoundary(v)) continue;
             const Point p = mMesh.point(v), normal = mPatch.refNormal(v);
+            // Whether the fan crosses anything where it is is asked only of a move that
+            // passed every other guard: it is dear (the faces around the ring, every pair),
+            // and most sharp fans find no such move (frog at 2 voxels: 22 k of 83 k).
+            enum { UNKNOWN, FREE, CROSSING } fanAsItIs = UNKNOWN;
             const std::uint32_t startTriangle = mPatch.refTriangle(v);
             bool agreedBefore = true;
             for (const FaceHandle f : mMesh.vf_range(v)) {
@@ -224,6 +228,16 @@ SharpFanSmoother::smooth(bool aside)
                 }
                 ok = ok && mCoverage.keepsCovered(mFaces, mTriangles,
                                                   mSettings.smoothingDeviation2, &before);
+                if (ok && aside && fanAsItIs == UNKNOWN) {
+                    mMesh.set_point(v, p);
+                    fanAsItIs = mFolds.fanCrossings(v) > 0 ? CROSSING : FREE;
+                    mMesh.set_point(v, toPoint(hit.point));
+                }
+                if (fanAsItIs == CROSSING) {   // left to separation, as it is
+                    mMesh.set_point(v, p);
+                    mPatch.refNormal(v) = normal;
+                    break;
+                }
                 ok = ok && (aside ? mFolds.fanCrossings(v) == 0
                                   : !mFolds.movedIntoFold(v, before));
                 if (!ok) {
