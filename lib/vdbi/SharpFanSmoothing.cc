@@ -191,9 +191,9 @@ SharpFanSmoother::smooth(bool aside)
             if (!old.isSharp()) continue;
             if (aside && nextToTightBoundary(v)) continue;
             const Point p = mMesh.point(v), normal = mPatch.refNormal(v);
-            // Whether the fan crosses anything where it is is asked only of a move that
+            // Whether the fan crosses anything where it is is asked only once a move has
             // passed every other guard: it is dear (the faces around the ring, every pair),
-            // and most sharp fans find no such move (frog at 2 voxels: 22 k of 83 k).
+            // and most sharp fans find no such move (frog at 2 voxels: 22 k of 83 k do).
             enum { UNKNOWN, FREE, CROSSING } fanAsItIs = UNKNOWN;
             const std::uint32_t startTriangle = mPatch.refTriangle(v);
             bool agreedBefore = true;
