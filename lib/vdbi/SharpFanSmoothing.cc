@@ -194,7 +194,7 @@ SharpFanSmoother::smooth(bool aside)
             // Whether the fan crosses anything where it is is asked only once a move has
             // passed every other guard: it is dear (the faces around the ring, every pair),
             // and most sharp fans find no such move (frog at 2 voxels: 22 k of 83 k do).
-            enum { UNKNOWN, FREE, CROSSING } fanAsItIs = UNKNOWN;
+            bool freeAsItIs = false;
             const std::uint32_t startTriangle = mPatch.refTriangle(v);
             bool agreedBefore = true;
             for (const FaceHandle f : mMesh.vf_range(v)) {
@@ -228,15 +228,14 @@ SharpFanSmoother::smooth(bool aside)
                 }
                 ok = ok && mCoverage.keepsCovered(mFaces, mTriangles,
                                                   mSettings.smoothingDeviation2, &before);
-                if (ok && aside && fanAsItIs == UNKNOWN) {
+                if (ok && aside && !freeAsItIs) {
                     mMesh.set_point(v, p);
-                    fanAsItIs = mFolds.fanCrossings(v) > 0 ? CROSSING : FREE;
+                    if (mFolds.fanCrossings(v) > 0) {   // left to separation, as it is
+                        mPatch.refNormal(v) = normal;
+                        break;
+                    }
+                    freeAsItIs = true;
                     mMesh.set_point(v, toPoint(hit.point));
-                }
-                if (fanAsItIs == CROSSING) {   // left to separation, as it is
-                    mMesh.set_point(v, p);
-                    mPatch.refNormal(v) = normal;
-                    break;
                 }
                 ok = ok && (aside ? mFolds.fanCrossings(v) == 0
                                   : !mFolds.movedIntoFold(v, before));
