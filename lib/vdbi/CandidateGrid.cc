@@ -3,9 +3,8 @@
 #include <vdbi/CandidateGrid.h>
 
 #include <vdbi/ParallelRanges.h>
+#include <vdbi/RadixSort.h>
 #include <vdbi/TriangleCrossing.h>
-
-#include <tbb/parallel_sort.h>
 
 #include <cmath>
 
@@ -44,10 +43,6 @@ struct Entry
     std::uint64_t key;
     std::uint32_t triangle;
     std::uint8_t starts;
-    bool operator<(const Entry& other) const
-    {
-        return key < other.key || (key == other.key && triangle < other.triangle);
-    }
 };
 
 } // namespace
@@ -64,8 +59,9 @@ cellOf(const openvdb::Vec3d& p, double inverse)
 std::uint64_t
 cellKey(const openvdb::Vec3i& c)
 {
-    const std::uint64_t mask = (std::uint64_t(1) << 21) - 1;
-    return (std::uint64_t(c[0]) & mask) << 42 | (std::uint64_t(c[1]) & mask) << 21
+    const std::uint64_t mask = (std::uint64_t(1) << CELL_KEY_BITS) - 1;
+    return (std::uint64_t(c[0]) & mask) << (2 * CELL_KEY_BITS)
+        | (std::uint64_t(c[1]) & mask) << CELL_KEY_BITS
         | (std::uint64_t(c[2]) & mask);
 }
 
@@ -102,9 +98,9 @@ CandidateGrid::CandidateGrid(const InterfaceMesh& mesh, double cellSize, double 
     });
     for (std::size_t f = 0; f < count; ++f) first[f + 1] += first[f];
 
-    // Every cell a triangle's box overlaps, sorted by (cell key, triangle): these are
-    // unique, so the order does not depend on the sort. Left unset until the threads fill
-    // it, as hundreds of MB are zeroed by one thread otherwise.
+    // Every cell a triangle's box overlaps, made triangle by triangle and sorted by cell key
+    // keeping that order: by (cell key, triangle) on any number of threads. Left unset until
+    // the threads fill it, as hundreds of MB are zeroed by one thread otherwise.
     std::vector<Entry, DefaultInitAllocator<Entry>> entries(first[count]);
     forEachChunk(count, CHUNK, threaded, [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t f = begin; f < end; ++f) {
@@ -114,8 +110,7 @@ CandidateGrid::CandidateGrid(const InterfaceMesh& mesh, double cellSize, double 
             });
         }
     });
-    if (threaded) tbb::parallel_sort(entries.begin(), entries.end());
-    else std::sort(entries.begin(), entries.end());
+    sortByPackedKey<3, CELL_KEY_BITS>(entries, [](const Entry& e) { return e.key; });
 
     for (std::size_t j = 0; j < entries.size(); ++j) {
         if (j > 0 && entries[j].key == entries[j - 1].key) continue;

@@ -27,8 +27,11 @@ using MeetTest = std::function<bool(std::uint32_t f, std::uint32_t g)>;
 /// The cell of @a p in a grid of cubes 1 / @a inverse wide.
 openvdb::Vec3i cellOf(const openvdb::Vec3d& p, double inverse);
 
-/// A cell as one key, 21 bits per axis: far apart cells may share a key, which only makes
-/// more candidates to test.
+/// Bits per axis of a cellKey().
+constexpr int CELL_KEY_BITS = 21;
+
+/// A cell as one key, CELL_KEY_BITS per axis (x highest): far apart cells may share a key,
+/// which only makes more candidates to test.
 std::uint64_t cellKey(const openvdb::Vec3i& c);
 
 /// @brief Calls @a body(index) for every entry of @a entries (sorted pairs of cellKey() and

@@ -3,6 +3,7 @@
 #include <vdbi/FaceCentreCoverage.h>
 
 #include <vdbi/CandidateGrid.h>
+#include <vdbi/RadixSort.h>
 #include <vdbi/RawPatchDistance.h>
 
 #include <tbb/parallel_for.h>
@@ -66,7 +67,8 @@ cellsOfPatch(const InterfaceMesh& mesh, std::size_t p, const Vec3d& inverse, dou
             }
         }
     }
-    std::sort(cells.entries.begin(), cells.entries.end());
+    // Made by triangle: sorted by (key, triangle).
+    sortByPackedKey<3, CELL_KEY_BITS>(cells.entries, [](const auto& e) { return e.first; });
     return cells;
 }
 

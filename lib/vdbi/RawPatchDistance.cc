@@ -3,9 +3,8 @@
 #include <vdbi/RawPatchDistance.h>
 
 #include <vdbi/CandidateGrid.h>
+#include <vdbi/RadixSort.h>
 #include <vdbi/ReferenceSurface.h>
-
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -78,10 +77,9 @@ isClosestWithin(const Vec3d& q, const RawPatchDistance::Corners& t, double limit
 } // namespace
 
 
-RawPatchDistance::RawPatchDistance(const InterfaceMesh& raw, const Vec3d& voxel, double radius,
-                                   bool threaded)
+RawPatchDistance::RawPatchDistance(const InterfaceMesh& raw, const Vec3d& voxel, double radius)
     : mRaw(raw), mVoxel(voxel), mInverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2])
-    , mRadius(radius), mThreaded(threaded), mCells(raw.patches.size())
+    , mRadius(radius), mCells(raw.patches.size())
 {
 }
 
@@ -120,12 +118,8 @@ RawPatchDistance::cellsOf(std::uint32_t patch)
                                   int(std::floor(centre[2])));
         cells.entries.emplace_back(cellKey(cell), std::uint32_t(t));
     }
-    // Every entry differs (one per triangle): the order is the same on any number of threads.
-    if (mThreaded) {
-        tbb::parallel_sort(cells.entries.begin(), cells.entries.end());
-    } else {
-        std::sort(cells.entries.begin(), cells.entries.end());
-    }
+    // Made by triangle: sorted by (key, triangle).
+    sortByPackedKey<3, CELL_KEY_BITS>(cells.entries, [](const auto& e) { return e.first; });
     cells.built = true;
     return cells;
 }

@@ -47,9 +47,7 @@ public:
     /// @param raw       the extracted patches (kept by reference)
     /// @param voxel     world size of a voxel per axis
     /// @param radius    in voxels: a distance beyond it is reported as @a radius
-    /// @param threaded  sort a patch's cells with TBB
-    RawPatchDistance(const InterfaceMesh& raw, const openvdb::Vec3d& voxel, double radius,
-                     bool threaded = true);
+    RawPatchDistance(const InterfaceMesh& raw, const openvdb::Vec3d& voxel, double radius);
 
     /// The nearest point of a patch to a query.
     struct Hit
@@ -115,7 +113,6 @@ private:
     const InterfaceMesh& mRaw;
     const openvdb::Vec3d mVoxel, mInverse;
     const double mRadius;
-    const bool mThreaded;
     std::vector<Cells> mCells;
 };
 

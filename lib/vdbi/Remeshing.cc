@@ -453,8 +453,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     auto separationClock = clock;   // the parts of separation, lap by lap
     PointArray start = out.points;
     TrianglePairs left;
-    RawPatchDistance rawDistance(raw, voxel, RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT,
-                                 options.threaded);
+    RawPatchDistance rawDistance(raw, voxel, RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT);
     for (std::size_t c = 0; c < std::size(SEPARATION_CYCLES); ++c) {
         if (c > 0 && left.empty()) break;
         const SeparationCycle& cycle = SEPARATION_CYCLES[c];
