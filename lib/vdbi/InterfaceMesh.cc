@@ -39,6 +39,15 @@ trianglesAroundPoints(const InterfaceMesh& mesh, std::vector<std::uint32_t>& fir
 }
 
 
+std::vector<std::size_t>
+patchSizes(const InterfaceMesh& mesh)
+{
+    std::vector<std::size_t> sizes;
+    for (const InterfacePatch& patch : mesh.patches) sizes.push_back(patch.triangleCount);
+    return sizes;
+}
+
+
 std::vector<std::uint32_t>
 trianglePatches(const InterfaceMesh& mesh)
 {

@@ -84,6 +84,9 @@ struct InterfaceMesh
     std::vector<std::array<Label, 2>> triangleLabels() const;
 };
 
+/// Triangles per patch of @a mesh.
+std::vector<std::size_t> patchSizes(const InterfaceMesh& mesh);
+
 /// The index of the patch of every triangle of @a mesh.
 std::vector<std::uint32_t> trianglePatches(const InterfaceMesh& mesh);
 

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace vdbi {
 
@@ -18,6 +19,16 @@ namespace vdbi {
 /// type erasure costs nothing measurable, and this header needs no TBB.
 void forEachRange(std::size_t count, std::size_t grain, bool threaded,
                   const std::function<void(std::size_t begin, std::size_t end)>& body);
+
+/// @brief Calls @a body(i) for every i in [0, sizes.size()), with TBB when @a threaded: the
+/// largest sizes[i] first, each thread taking the next when it is done with one.
+/// @details For work in a few pieces of very different sizes (patches: the largest of the
+/// frog holds a third of its triangles). It starts at once and the last to start are the
+/// smallest, so the threads finish close together; a parallel_for over the sorted pieces
+/// lets a thread steal the far, small end of the range first. A body that throws cancels
+/// the rest: no thread takes a new piece, and the exception reaches the caller.
+void forEachLargestFirst(const std::vector<std::size_t>& sizes, bool threaded,
+                         const std::function<void(std::size_t i)>& body);
 
 } // namespace vdbi
 

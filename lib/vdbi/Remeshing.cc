@@ -9,6 +9,7 @@
 #include <vdbi/IsotropicRemeshing.h>
 #include <vdbi/MeetingEdgeCollapses.h>
 #include <vdbi/MeetingEdgeFlips.h>
+#include <vdbi/ParallelRanges.h>
 #include <vdbi/PatchBoundary.h>
 #include <vdbi/PatchSeparation.h>
 #include <vdbi/RawPatchDistance.h>
@@ -16,12 +17,8 @@
 
 #include <openvdb/Exceptions.h>
 
-#include <tbb/task_arena.h>
-#include <tbb/task_group.h>
-
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -169,37 +166,6 @@ voxelSizeFromKeys(const InterfaceMesh& mesh)
         std::from_chars(text, end.ptr, best[k]);
     }
     return best;
-}
-
-/// @brief Calls @a body(p) for every patch, in parallel or not.
-/// @details Largest first, each thread taking the next patch when it is done with one: the
-/// largest patch (a third of the frog) starts at once and the last to start are the
-/// smallest, so the threads finish close together. (A parallel_for over the sorted patches
-/// lets a thread steal the far, small end of the range first.)
-template<typename Body>
-void
-forEachPatch(const InterfaceMesh& raw, bool threaded, const Body& body)
-{
-    const std::size_t count = raw.patches.size();
-    std::vector<std::size_t> order(count);
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-        return raw.patches[x].triangleCount > raw.patches[y].triangleCount;
-    });
-    std::atomic<std::size_t> next(0);
-    auto run = [&] {
-        // A patch that threw cancels the group: the other threads take no new patch.
-        for (std::size_t i = next++; i < count && !tbb::is_current_task_group_canceling();
-             i = next++) {
-            body(order[i]);
-        }
-    };
-    if (!threaded) return run();
-    const std::size_t threads =
-        std::min<std::size_t>(count, std::size_t(tbb::this_task_arena::max_concurrency()));
-    tbb::task_group group;
-    for (std::size_t t = 0; t < threads; ++t) group.run(run);
-    group.wait();
 }
 
 /// @brief Separation, then splits of the triangles it leaves meeting with at most one free
@@ -373,7 +339,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     std::vector<double> referenceTimes(patchCount, 0.0), remeshingTimes(patchCount, 0.0);
     std::vector<RemeshStepSeconds> stepTimes(patchCount);
     InterruptFlag interrupt(options.interrupter);
-    forEachPatch(raw, options.threaded, [&](std::size_t p) {
+    forEachLargestFirst(patchSizes(raw), options.threaded, [&](std::size_t p) {
         if (interrupt.poll()) return;
         auto patchClock = std::chrono::steady_clock::now();
         const PatchReference reference = buildPatchReference(raw, p, curves, SURFACE_SMOOTHING,
@@ -454,6 +420,11 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     PointArray start = out.points;
     TrianglePairs left;
     RawPatchDistance rawDistance(raw, voxel, RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT);
+    // Separation's first round asks about nearly every patch (frog at 2 voxels: 90 of 96),
+    // one at a time, and would sort their cells in one thread (0.3 s).
+    std::vector<std::uint32_t> allPatches(raw.patches.size());
+    std::iota(allPatches.begin(), allPatches.end(), 0u);
+    rawDistance.buildCells(allPatches, options.threaded);
     for (std::size_t c = 0; c < std::size(SEPARATION_CYCLES); ++c) {
         if (c > 0 && left.empty()) break;
         const SeparationCycle& cycle = SEPARATION_CYCLES[c];
