@@ -3,7 +3,6 @@
 #include <vdbi/RawPatchDistance.h>
 
 #include <vdbi/CandidateGrid.h>
-#include <vdbi/ParallelRanges.h>
 #include <vdbi/RadixSort.h>
 #include <vdbi/ReferenceSurface.h>
 
@@ -127,12 +126,9 @@ RawPatchDistance::cellsOf(std::uint32_t patch)
 
 
 void
-RawPatchDistance::buildCells(const std::vector<std::uint32_t>& patches, bool threaded)
+RawPatchDistance::buildCells(const std::vector<std::uint32_t>& patches)
 {
-    std::vector<std::size_t> sizes;
-    for (const std::uint32_t patch : patches) sizes.push_back(mRaw.patches[patch].triangleCount);
-    // Each patch's cells are its own: threads building different patches share nothing.
-    forEachLargestFirst(sizes, threaded, [&](std::size_t i) { cellsOf(patches[i]); });
+    for (const std::uint32_t patch : patches) cellsOf(patch);
 }
 
 

@@ -56,9 +56,8 @@ public:
         double distance = 0.0;  ///< in voxels, at most the radius
     };
 
-    /// Sorts the triangles of @a patches into their cells now, not when first asked; with
-    /// TBB when @a threaded, a patch per thread.
-    void buildCells(const std::vector<std::uint32_t>& patches, bool threaded = false);
+    /// Sorts the triangles of @a patches into their cells now, not when first asked.
+    void buildCells(const std::vector<std::uint32_t>& patches);
 
     /// The point of patch @a patch of the raw mesh nearest to world point @a p.
     Hit nearest(const openvdb::Vec3d& p, std::uint32_t patch);
