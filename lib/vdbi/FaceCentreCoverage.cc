@@ -21,9 +21,9 @@ using Vec3d = openvdb::Vec3d;
 
 /// Groups of cells a search keeps the triangles of.
 constexpr std::size_t CACHED_GROUPS = 509;
-/// Raw triangles per task: the largest patch (a third of the frog) is searched by both
+/// Raw face centres per task: the largest patch (a third of the frog) is searched by both
 /// threads, not by one while the other waits.
-constexpr std::size_t TRIANGLES_PER_TASK = 1 << 15;
+constexpr std::size_t CENTRES_PER_TASK = 1 << 14;
 
 /// A remeshed patch's triangles in voxel units, and (cell, triangle) for every cell of
 /// two limits their bounding boxes overlap, by cell.
@@ -72,18 +72,17 @@ cellsOfPatch(const InterfaceMesh& mesh, std::size_t p, const Vec3d& inverse, dou
     return cells;
 }
 
-/// The far centres (see findFarFaceCentres()) of raw triangles [@a begin, @a end) of patch
-/// @a p, appended to @a far.
+/// The far centres (see findFarFaceCentres()) among centres [@a begin, @a end) (voxel units)
+/// of patch @a p, appended to @a far.
 void
-findFarCentresIn(const InterfaceMesh& raw, const PatchCells& cells, std::size_t p,
-                 std::size_t begin, std::size_t end, const Vec3d& voxel, double limit,
-                 std::vector<FaceCentre>& far)
+findFarCentresIn(const PatchCells& cells, std::size_t p, const Vec3d* begin, const Vec3d* end,
+                 const Vec3d& voxel, double limit, std::vector<FaceCentre>& far)
 {
-    const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
     const std::vector<RawPatchDistance::Corners>& triangles = cells.triangles;
     const auto& entries = cells.entries;
-    // Raw triangles come block by block: the centres of a block look at a few groups of
-    // cells, again and again. Each group's triangles are gathered once into a small cache.
+    // Raw triangles come block by block, and their centres in their order: the centres of a
+    // block look at a few groups of cells, again and again. Each group's triangles are
+    // gathered once into a small cache.
     struct Group
     {
         openvdb::Vec3i cell{std::numeric_limits<int>::min()};
@@ -91,13 +90,8 @@ findFarCentresIn(const InterfaceMesh& raw, const PatchCells& cells, std::size_t 
     };
     std::vector<Group> cache(CACHED_GROUPS);
     std::size_t lastNear = triangles.size();
-    for (std::size_t t = begin; t < end; ++t) {
-        const openvdb::Vec3I& tri = raw.triangles[t];
-        const Vec3d corner[3] = {scaled(raw.points[tri[0]], inverse),
-                                 scaled(raw.points[tri[1]], inverse),
-                                 scaled(raw.points[tri[2]], inverse)};
-        const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
-        if (!ownsFaceCentre(corner, centre)) continue;
+    for (const Vec3d* c = begin; c != end; ++c) {
+        const Vec3d& centre = *c;
         const openvdb::Vec3i lowCell = cellOf(centre - Vec3d(limit), cells.cellInverse);
         Group& group = cache[cellKey(lowCell) % CACHED_GROUPS];
         if (group.cell != lowCell) {
@@ -124,22 +118,21 @@ findFarCentresIn(const InterfaceMesh& raw, const PatchCells& cells, std::size_t 
     }
 }
 
-/// The far centres of patch @a p, its raw triangles in tasks of TRIANGLES_PER_TASK.
+/// The far centres of patch @a p, from its raw centres @a centres in tasks of
+/// CENTRES_PER_TASK.
 void
-findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::size_t p,
-                      const Vec3d& voxel, double limit, bool threaded,
+findFarCentresOfPatch(const std::vector<Vec3d>& centres, const InterfaceMesh& mesh,
+                      std::size_t p, const Vec3d& voxel, double limit, bool threaded,
                       std::vector<FaceCentre>& far)
 {
     const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
     const PatchCells cells = cellsOfPatch(mesh, p, inverse, limit);
-    const InterfacePatch& rp = raw.patches[p];
-    const std::size_t tasks = (rp.triangleCount + TRIANGLES_PER_TASK - 1) / TRIANGLES_PER_TASK;
+    const std::size_t tasks = (centres.size() + CENTRES_PER_TASK - 1) / CENTRES_PER_TASK;
     std::vector<std::vector<FaceCentre>> perTask(tasks);
     auto body = [&](std::size_t k) {
-        const std::size_t begin = rp.firstTriangle + k * TRIANGLES_PER_TASK;
-        const std::size_t end = std::min(begin + TRIANGLES_PER_TASK,
-                                         rp.firstTriangle + rp.triangleCount);
-        findFarCentresIn(raw, cells, p, begin, end, voxel, limit, perTask[k]);
+        const Vec3d* begin = centres.data() + k * CENTRES_PER_TASK;
+        const Vec3d* end = centres.data() + std::min(centres.size(), (k + 1) * CENTRES_PER_TASK);
+        findFarCentresIn(cells, p, begin, end, voxel, limit, perTask[k]);
     };
     if (threaded && tasks > 1) {
         tbb::parallel_for(std::size_t(0), tasks, body);
@@ -147,22 +140,55 @@ findFarCentresOfPatch(const InterfaceMesh& raw, const InterfaceMesh& mesh, std::
         for (std::size_t k = 0; k < tasks; ++k) body(k);
     }
     // In the order of the raw triangles, on any number of threads.
-    for (const std::vector<FaceCentre>& centres : perTask) {
-        far.insert(far.end(), centres.begin(), centres.end());
+    for (const std::vector<FaceCentre>& part : perTask) {
+        far.insert(far.end(), part.begin(), part.end());
     }
 }
 
 } // namespace
 
 
+std::vector<Vec3d>
+rawFaceCentresOf(const InterfaceMesh& raw, std::size_t patch, const Vec3d& voxel)
+{
+    const Vec3d inverse(1.0 / voxel[0], 1.0 / voxel[1], 1.0 / voxel[2]);
+    const InterfacePatch& rp = raw.patches[patch];
+    std::vector<Vec3d> centres;
+    for (std::size_t t = rp.firstTriangle; t < rp.firstTriangle + rp.triangleCount; ++t) {
+        const openvdb::Vec3I& tri = raw.triangles[t];
+        const Vec3d corner[3] = {scaled(raw.points[tri[0]], inverse),
+                                 scaled(raw.points[tri[1]], inverse),
+                                 scaled(raw.points[tri[2]], inverse)};
+        const Vec3d centre = voxelFaceCentre(corner[0], corner[1], corner[2]);
+        if (ownsFaceCentre(corner, centre)) centres.push_back(centre);
+    }
+    return centres;
+}
+
+
 std::vector<FaceCentre>
 findFarFaceCentres(const InterfaceMesh& raw, const InterfaceMesh& mesh, const Vec3d& voxel,
                    double limit, bool threaded)
 {
-    const std::size_t count = std::min(raw.patches.size(), mesh.patches.size());
+    RawFaceCentres centres(raw.patches.size());
+    auto body = [&](std::size_t p) { centres[p] = rawFaceCentresOf(raw, p, voxel); };
+    if (threaded) {
+        tbb::parallel_for(std::size_t(0), centres.size(), body);
+    } else {
+        for (std::size_t p = 0; p < centres.size(); ++p) body(p);
+    }
+    return findFarFaceCentres(centres, mesh, voxel, limit, threaded);
+}
+
+
+std::vector<FaceCentre>
+findFarFaceCentres(const RawFaceCentres& centres, const InterfaceMesh& mesh, const Vec3d& voxel,
+                   double limit, bool threaded)
+{
+    const std::size_t count = std::min(centres.size(), mesh.patches.size());
     std::vector<std::vector<FaceCentre>> perPatch(count);
     auto body = [&](std::size_t p) {
-        findFarCentresOfPatch(raw, mesh, p, voxel, limit, threaded, perPatch[p]);
+        findFarCentresOfPatch(centres[p], mesh, p, voxel, limit, threaded, perPatch[p]);
     };
     if (threaded) {
         tbb::parallel_for(std::size_t(0), count, body);
@@ -170,8 +196,8 @@ findFarFaceCentres(const InterfaceMesh& raw, const InterfaceMesh& mesh, const Ve
         for (std::size_t p = 0; p < count; ++p) body(p);
     }
     std::vector<FaceCentre> far;
-    for (const std::vector<FaceCentre>& centres : perPatch) {
-        far.insert(far.end(), centres.begin(), centres.end());
+    for (const std::vector<FaceCentre>& part : perPatch) {
+        far.insert(far.end(), part.begin(), part.end());
     }
     return far;
 }

@@ -243,11 +243,11 @@ pullFarPoints(InterfaceMesh& mesh, const std::vector<std::uint8_t>& inner,
 /// keep every centre within CLOSENESS_LIMIT there.
 void
 pullToFarFaceCentres(InterfaceMesh& mesh, std::vector<std::uint8_t> inner,
-                     const InterfaceMesh& raw, RawPatchDistance& rawDistance,
+                     const RawFaceCentres& rawCentres, RawPatchDistance& rawDistance,
                      const RemeshOptions& options, const Vec3d& voxel)
 {
     const std::vector<FaceCentre> far =
-        findFarFaceCentres(raw, mesh, voxel, CLOSENESS_LIMIT, options.threaded);
+        findFarFaceCentres(rawCentres, mesh, voxel, CLOSENESS_LIMIT, options.threaded);
     if (far.empty()) return;
     // The points a last separation cycle split and did not keep are gone from the mesh.
     inner.resize(mesh.points.size());
@@ -340,16 +340,20 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     std::vector<RemeshStepSeconds> stepTimes(patchCount);
     InterruptFlag interrupt(options.interrupter);
     // Separation after this asks about nearly every raw patch (frog at 2 voxels: 90 of 96),
-    // one at a time: their cells are sorted here, each a piece after the patches (a triangle
-    // sorts about 100 times faster than it is remeshed) that fills a gap the last patches
-    // leave (0.3 s in one thread in separation before).
+    // one at a time, and twice for the face centres of all. Their cells are sorted and their
+    // centres found here, each patch's a piece after the patches (a triangle takes about a
+    // hundredth of the time it is remeshed in) that fills a gap the last patches leave: in
+    // separation, the cells took 0.3 s in one thread, and the centres were found twice.
     RawPatchDistance rawDistance(raw, voxel, RAW_DISTANCE_RADIUS * CLOSENESS_LIMIT);
+    RawFaceCentres rawCentres(patchCount);
     std::vector<std::size_t> pieces = patchSizes(raw);
     for (std::size_t p = 0; p < patchCount; ++p) pieces.push_back(pieces[p] / 100);
     forEachLargestFirst(pieces, options.threaded, [&](std::size_t piece) {
         if (interrupt.poll()) return;
         if (piece >= patchCount) {
-            rawDistance.buildCells({std::uint32_t(piece - patchCount)});
+            const std::size_t p = piece - patchCount;
+            rawDistance.buildCells({std::uint32_t(p)});
+            rawCentres[p] = rawFaceCentresOf(raw, p, voxel);
             return;
         }
         const std::size_t p = piece;
@@ -469,7 +473,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     stats.pullSeconds = secondsSince(separationClock);
     shapeFansAcrossPatches(out, inner, left, rawDistance, options, smallestVoxel);
     stats.fanShapingSeconds = secondsSince(separationClock);
-    pullToFarFaceCentres(out, inner, raw, rawDistance, options, voxel);
+    pullToFarFaceCentres(out, inner, rawCentres, rawDistance, options, voxel);
     stats.pullSeconds += secondsSince(separationClock);
     // Knots that no move or flip frees: collapse free corners; then short edges, every patch
     // in sight (last: it renumbers points).
@@ -490,7 +494,7 @@ remeshPatches(const InterfaceMesh& raw, const RemeshOptions& options,
     stats.meetingPairs =
         findMeetingPairs(out, options.edgeLength, options.threaded).size();
     stats.farFaceCentres =
-        findFarFaceCentres(raw, out, voxel, PROMISED_CLOSENESS, options.threaded).size();
+        findFarFaceCentres(rawCentres, out, voxel, PROMISED_CLOSENESS, options.threaded).size();
     stats.checkSeconds = secondsSince(separationClock);
     stats.separationSeconds = secondsSince(clock);
     if (statistics) *statistics = stats;
