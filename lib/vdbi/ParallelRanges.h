@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file vdbi/ParallelRanges.h
-/// @brief The one parallel loop of the stages: ranges of indices, with TBB or in the calling
-/// thread (every stage has a `threaded` switch, and its result must not depend on it).
+/// @brief The parallel loops of the stages: ranges of indices, or pieces largest first, with
+/// TBB or in the calling thread (every stage has a `threaded` switch, and its result must not
+/// depend on it).
 
 #ifndef VDBI_PARALLEL_RANGES_HAS_BEEN_INCLUDED
 #define VDBI_PARALLEL_RANGES_HAS_BEEN_INCLUDED
@@ -23,10 +24,10 @@ void forEachRange(std::size_t count, std::size_t grain, bool threaded,
 /// @brief Calls @a body(i) for every i in [0, sizes.size()), with TBB when @a threaded: the
 /// largest sizes[i] first, each thread taking the next when it is done with one.
 /// @details For work in a few pieces of very different sizes (patches: the largest of the
-/// frog holds a third of its triangles). It starts at once and the last to start are the
-/// smallest, so the threads finish close together; a parallel_for over the sorted pieces
-/// lets a thread steal the far, small end of the range first. A body that throws cancels
-/// the rest: no thread takes a new piece, and the exception reaches the caller.
+/// frog holds a third of its triangles). The largest starts at once and the last to start
+/// are the smallest, so the threads finish close together; a parallel_for over the sorted
+/// pieces lets a thread steal the far, small end of the range first. A body that throws
+/// cancels the rest: no thread takes a new piece, and the exception reaches the caller.
 void forEachLargestFirst(const std::vector<std::size_t>& sizes, bool threaded,
                          const std::function<void(std::size_t i)>& body);
 
