@@ -34,15 +34,19 @@ randomCells(std::size_t count, int spread, const openvdb::Vec3i& centre, std::ui
     return entries;
 }
 
-/// Whether the radix sort of @a entries gives what std::sort does.
+/// Whether the radix sort of @a entries, in one thread and in parallel, gives what std::sort
+/// does.
 void
-expectSortedLikeStd(Entries entries)
+expectSortedLikeStd(const Entries& entries)
 {
     Entries expected = entries;
     std::sort(expected.begin(), expected.end());
-    vdbi::sortByPackedKey<3, vdbi::CELL_KEY_BITS>(entries,
-                                                  [](const auto& e) { return e.first; });
-    EXPECT_EQ(entries, expected);
+    for (const bool threaded : {false, true}) {
+        Entries sorted = entries;
+        vdbi::sortByPackedKey<3, vdbi::CELL_KEY_BITS>(
+            sorted, [](const auto& e) { return e.first; }, threaded);
+        EXPECT_EQ(sorted, expected) << (threaded ? "threaded" : "serial");
+    }
 }
 
 } // namespace
@@ -51,12 +55,13 @@ TEST_F(TestRadixSort, cellKeysSortLikeStdSort)
 {
     // Few cells (many equal keys: the order of equal keys is tested), a sample volume's
     // spread, cells across 0 on every axis (keys wrap to the top of their 21 bits), and the
-    // whole key range (6 passes).
+    // whole key range (6 passes). Over 2^16 entries, the threaded sort works in runs, which
+    // each pass fills anew.
     for (std::uint32_t seed = 1; seed <= 4; ++seed) {
         expectSortedLikeStd(randomCells(10000, 2, openvdb::Vec3i(100, 50, 7), seed));
-        expectSortedLikeStd(randomCells(50000, 128, openvdb::Vec3i(300, 300, 300), seed));
-        expectSortedLikeStd(randomCells(50000, 64, openvdb::Vec3i(0, 0, 0), seed));
-        expectSortedLikeStd(randomCells(50000, 1 << 20, openvdb::Vec3i(0, 0, 0), seed));
+        expectSortedLikeStd(randomCells(200000, 128, openvdb::Vec3i(300, 300, 300), seed));
+        expectSortedLikeStd(randomCells(200000, 64, openvdb::Vec3i(0, 0, 0), seed));
+        expectSortedLikeStd(randomCells(200000, 1 << 20, openvdb::Vec3i(0, 0, 0), seed));
     }
 }
 
@@ -94,13 +99,16 @@ TEST_F(TestRadixSort, edgeKeysSortLikeStdSort)
         std::mt19937 random(largest);
         std::uniform_int_distribution<std::uint32_t> point(0, largest);
         std::vector<std::uint64_t> keys;
-        for (int i = 0; i < 100000; ++i) {
+        for (int i = 0; i < 200000; ++i) {
             const std::uint32_t u = point(random), v = point(random);
             keys.push_back(std::uint64_t(std::min(u, v)) << 32 | std::max(u, v));
         }
         std::vector<std::uint64_t> expected = keys;
         std::sort(expected.begin(), expected.end());
-        vdbi::sortByPackedKey<2, 32>(keys, [](std::uint64_t k) { return k; });
-        EXPECT_EQ(keys, expected);
+        for (const bool threaded : {false, true}) {
+            std::vector<std::uint64_t> sorted = keys;
+            vdbi::sortByPackedKey<2, 32>(sorted, [](std::uint64_t k) { return k; }, threaded);
+            EXPECT_EQ(sorted, expected) << (threaded ? "threaded" : "serial");
+        }
     }
 }

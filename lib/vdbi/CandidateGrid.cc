@@ -110,7 +110,7 @@ CandidateGrid::CandidateGrid(const InterfaceMesh& mesh, double cellSize, double 
             });
         }
     });
-    sortByPackedKey<3, CELL_KEY_BITS>(entries, [](const Entry& e) { return e.key; });
+    sortByPackedKey<3, CELL_KEY_BITS>(entries, [](const Entry& e) { return e.key; }, threaded);
 
     for (std::size_t j = 0; j < entries.size(); ++j) {
         if (j > 0 && entries[j].key == entries[j - 1].key) continue;

@@ -31,7 +31,7 @@ forEachIndex(std::size_t count, bool threaded, const Body& body)
 
 /// Undirected edges of one patch that lie in exactly one of its triangles, sorted.
 std::vector<std::uint64_t>
-patchBoundaryEdges(const InterfaceMesh& mesh, std::size_t patchIndex)
+patchBoundaryEdges(const InterfaceMesh& mesh, std::size_t patchIndex, bool threaded)
 {
     const InterfacePatch& patch = mesh.patches[patchIndex];
     std::vector<std::uint64_t> keys;
@@ -43,7 +43,8 @@ patchBoundaryEdges(const InterfaceMesh& mesh, std::size_t patchIndex)
             keys.push_back(FeatureCurves::edgeKey(tri[i], tri[(i + 1) % 3]));
         }
     }
-    sortByPackedKey<2, 32>(keys, [](std::uint64_t key) { return key; });
+    // In parallel too: the largest patch (a third of frog's triangles) would sort alone.
+    sortByPackedKey<2, 32>(keys, [](std::uint64_t key) { return key; }, threaded);
     std::vector<std::uint64_t> boundary;
     for (std::size_t i = 0; i < keys.size();) {
         std::size_t j = i + 1;
@@ -96,7 +97,7 @@ buildFeatureGraph(const InterfaceMesh& mesh, bool threaded)
 {
     std::vector<std::vector<std::uint64_t>> perPatch(mesh.patches.size());
     forEachIndex(mesh.patches.size(), threaded,
-                 [&](std::size_t p) { perPatch[p] = patchBoundaryEdges(mesh, p); });
+                 [&](std::size_t p) { perPatch[p] = patchBoundaryEdges(mesh, p, threaded); });
 
     // (edge key, patch) pairs are unique, so the sorted order does not depend on the sort.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs;
